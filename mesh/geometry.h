@@ -1,0 +1,89 @@
+// Geometry value types used everywhere below the server: double precision points, vectors and
+// triangles. Points and vectors are distinct types so that "point minus point is a vector" and
+// "point plus point" does not compile (pbrt-v4 style). Lengths are metres inside the solver.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <vector>
+
+namespace lambert {
+
+struct Vector3 {
+  double x = 0, y = 0, z = 0;
+  constexpr Vector3() = default;
+  constexpr Vector3(double x_, double y_, double z_) : x(x_), y(y_), z(z_) {}
+  constexpr double operator[](int i) const { return i == 0 ? x : (i == 1 ? y : z); }
+  constexpr Vector3 operator+(const Vector3& o) const { return {x + o.x, y + o.y, z + o.z}; }
+  constexpr Vector3 operator-(const Vector3& o) const { return {x - o.x, y - o.y, z - o.z}; }
+  constexpr Vector3 operator-() const { return {-x, -y, -z}; }
+  constexpr Vector3 operator*(double s) const { return {x * s, y * s, z * s}; }
+  constexpr Vector3 operator/(double s) const { return {x / s, y / s, z / s}; }
+  Vector3& operator+=(const Vector3& o) { x += o.x; y += o.y; z += o.z; return *this; }
+  Vector3& operator*=(double s) { x *= s; y *= s; z *= s; return *this; }
+};
+constexpr Vector3 operator*(double s, const Vector3& v) { return v * s; }
+
+struct Point3 {
+  double x = 0, y = 0, z = 0;
+  constexpr Point3() = default;
+  constexpr Point3(double x_, double y_, double z_) : x(x_), y(y_), z(z_) {}
+  constexpr double operator[](int i) const { return i == 0 ? x : (i == 1 ? y : z); }
+  constexpr Vector3 operator-(const Point3& o) const { return {x - o.x, y - o.y, z - o.z}; }
+  constexpr Point3 operator+(const Vector3& v) const { return {x + v.x, y + v.y, z + v.z}; }
+  constexpr Point3 operator-(const Vector3& v) const { return {x - v.x, y - v.y, z - v.z}; }
+  constexpr bool operator==(const Point3&) const = default;
+};
+
+constexpr double dot(const Vector3& a, const Vector3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+constexpr Vector3 cross(const Vector3& a, const Vector3& b) {
+  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+inline double length(const Vector3& v) { return std::sqrt(dot(v, v)); }
+constexpr double length_squared(const Vector3& v) { return dot(v, v); }
+inline Vector3 normalize(const Vector3& v) { return v / length(v); }
+inline double distance(const Point3& a, const Point3& b) { return length(a - b); }
+constexpr Vector3 to_vector(const Point3& p) { return {p.x, p.y, p.z}; }
+constexpr Point3 to_point(const Vector3& v) { return {v.x, v.y, v.z}; }
+// Affine combination w0 a + w1 b + w2 c with w0 + w1 + w2 = 1 (barycentric point).
+constexpr Point3 barycentric(const Point3& a, const Point3& b, const Point3& c, double w0, double w1,
+                             double w2) {
+  return {w0 * a.x + w1 * b.x + w2 * c.x, w0 * a.y + w1 * b.y + w2 * c.y,
+          w0 * a.z + w1 * b.z + w2 * c.z};
+}
+
+struct Triangle {
+  std::array<Point3, 3> v;
+  Vector3 area_vector() const { return cross(v[1] - v[0], v[2] - v[0]) * 0.5; }  // |.| = area, along normal
+  double area() const { return length(area_vector()); }
+  Vector3 normal() const { return normalize(area_vector()); }  // counter-clockwise = front
+  Point3 centroid() const { return barycentric(v[0], v[1], v[2], 1.0 / 3, 1.0 / 3, 1.0 / 3); }
+  double max_edge_length() const {
+    return std::max({distance(v[0], v[1]), distance(v[1], v[2]), distance(v[2], v[0])});
+  }
+};
+
+// An indexed triangle mesh (front side: counter-clockwise vertex order).
+struct TriangleMesh {
+  std::vector<Point3> vertices;
+  std::vector<std::array<int, 3>> triangles;
+  Triangle triangle(std::size_t t) const {
+    const auto& i = triangles[t];
+    return {{vertices[i[0]], vertices[i[1]], vertices[i[2]]}};
+  }
+};
+
+// Axis-aligned bounding box, empty until a point is added.
+struct Bounds3 {
+  Point3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
+  void add(const Point3& p) {
+    lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
+    hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+  }
+  bool empty() const { return lo.x > hi.x; }
+  Vector3 diagonal() const { return empty() ? Vector3{} : hi - lo; }
+  Point3 center() const { return barycentric(lo, hi, hi, 0.5, 0.5, 0.0); }
+};
+
+}  // namespace lambert

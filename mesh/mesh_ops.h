@@ -1,0 +1,68 @@
+// Mesh operations behind plain C++ types. CGAL lives only in mesh/cgal_ops.cpp and OpenMesh only in
+// mesh/openmesh_ops.cpp, so that nothing else recompiles those heavy headers.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "mesh/geometry.h"
+
+namespace lambert {
+
+// ---- CGAL (mesh/cgal_ops.cpp) ----------------------------------------------------------------
+
+struct PolygonTriangulation {
+  TriangleMesh mesh;           // triangles oriented like the polygon (counter-clockwise = front)
+  std::string error;           // empty on success; otherwise says what is wrong (non-planar, ...)
+  bool ok() const { return error.empty(); }
+};
+
+// Triangulates a planar simple polygon (convex or concave, no holes) robustly with CGAL.
+// Errors: fewer than 3 vertices, repeated consecutive vertices, collinear (zero area),
+// non-planar (a vertex farther than planarity_tolerance * polygon diameter from the best-fit plane),
+// self-intersecting (not simple).
+PolygonTriangulation triangulate_polygon(const std::vector<Point3>& polygon,
+                                         double planarity_tolerance = 1e-6);
+
+struct MeshHealth {
+  std::vector<int> degenerate_triangles;          // zero area or repeated vertex index
+  std::vector<std::pair<int, int>> self_intersections;  // pairs of intersecting triangles (not adjacent)
+  bool consistently_oriented = true;              // adjacent triangles agree on orientation
+  bool manifold = true;                           // every edge has at most two triangles
+  int boundary_edges = 0;                         // edges with one triangle (0: closed mesh)
+};
+
+// Health report of a mesh (CGAL Polygon Mesh Processing). Indices refer to mesh.triangles.
+MeshHealth check_mesh(const TriangleMesh& mesh);
+
+// ---- OpenMesh (mesh/openmesh_ops.cpp) --------------------------------------------------------
+
+struct MeshFileResult {
+  TriangleMesh mesh;           // polygons of the file fan-triangulated
+  std::string error;           // empty on success; why the file could not be read as given
+  bool ok() const { return error.empty(); }
+};
+
+// Reads OBJ, PLY, OFF or STL (chosen by extension) with OpenMesh. Refuses files that OpenMesh
+// altered while loading (dropped or duplicated faces and vertices), rather than silently losing them.
+MeshFileResult read_mesh_file(const std::string& path);
+
+// Splits triangles along their longest edge (conforming, geometry preserved exactly) until every
+// triangle has area <= max_area. Used to turn surfaces into radiosity patches.
+// The input vertices keep their indices (midpoints are appended); output triangles are grouped by
+// the input triangle they lie in, in input order; each keeps its parent's orientation. Triangles
+// that cannot join a manifold, consistently oriented surface (fins, flipped faces of a soup) are
+// bisected on their own (not conforming with their neighbours) instead of being dropped.
+// A max_area that is not finite and > 0 returns the mesh unchanged.
+TriangleMesh subdivide_to_max_area(const TriangleMesh& mesh, double max_area);
+
+struct SubdividedMesh {
+  TriangleMesh mesh;           // as returned by subdivide_to_max_area
+  std::vector<int> parent;     // parent[t]: index of the input triangle that output triangle t lies in
+};
+
+// subdivide_to_max_area, also telling which input triangle (surface, material) each patch came from.
+SubdividedMesh subdivide_to_max_area_with_parents(const TriangleMesh& mesh, double max_area);
+
+}  // namespace lambert

@@ -1,0 +1,136 @@
+// The `lambert` command line (SPEC §3). Exit status: 0 success, 1 solve failure, 2 bad usage or an
+// invalid scene (the message names the field).
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <unistd.h>
+#include <vector>
+
+#include "server/result_codec.h"
+#include "server/scene_codec.h"
+#include "solver/radiosity.h"
+#include "solver/report.h"
+
+namespace {
+
+constexpr const char* kUsage =
+    "usage:\n"
+    "  lambert solve SCENE.json [-o RESULT.json]   solve; summary on stdout, progress on stderr (tty)\n"
+    "  lambert check SCENE.json                    validate only: every problem with its JSON pointer\n"
+    "  lambert serve | render | bench              (not available in this version)\n";
+
+int usage_error(const std::string& message) {
+  std::cerr << "lambert: " << message << "\n" << kUsage;
+  return 2;
+}
+
+bool read_file(const std::string& path, std::string& text) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return false;
+  std::ostringstream buffer;
+  buffer << in.rdbuf();
+  text = buffer.str();
+  return true;
+}
+
+// Decodes a scene file; prints errors and returns nullopt when it is invalid.
+std::optional<lambert::Scene> load_scene(const std::string& path) {
+  std::string text;
+  if (!read_file(path, text)) {
+    std::cerr << "lambert: cannot read " << path << "\n";
+    return std::nullopt;
+  }
+  lambert::FileAccess files;
+  files.policy = lambert::FileAccess::Policy::Anywhere;
+  files.base_dir = std::filesystem::path(path).parent_path();
+  lambert::DecodeResult decoded = lambert::decode_scene(text, files);
+  if (!decoded.ok()) {
+    std::cerr << path << ": invalid scene\n" << lambert::format_errors(decoded.errors);
+    return std::nullopt;
+  }
+  return std::move(decoded.scene);
+}
+
+int check(const std::vector<std::string>& args) {
+  if (args.size() != 1) return usage_error("check takes one scene file");
+  const auto scene = load_scene(args[0]);
+  if (!scene) return 2;
+  std::size_t triangles = 0;
+  for (const auto& s : scene->surfaces) triangles += s.mesh.triangles.size();
+  std::cout << args[0] << ": valid (" << scene->surfaces.size() << " surfaces, " << triangles
+            << " triangles, " << scene->lights.size() << " lights, " << scene->grid.size()
+            << " wavelengths)\n";
+  for (const auto& w : scene->warnings) std::cout << "warning: " << w << "\n";
+  return 0;
+}
+
+int solve(const std::vector<std::string>& args) {
+  std::string scene_path, output_path;
+  for (std::size_t k = 0; k < args.size(); ++k) {
+    if (args[k] == "-o" || args[k] == "--output") {
+      if (k + 1 >= args.size()) return usage_error("-o needs a file name");
+      output_path = args[++k];
+    } else if (!args[k].empty() && args[k][0] == '-') {
+      return usage_error("unknown option " + args[k]);
+    } else if (scene_path.empty()) {
+      scene_path = args[k];
+    } else {
+      return usage_error("solve takes one scene file");
+    }
+  }
+  if (scene_path.empty()) return usage_error("solve needs a scene file");
+  const auto scene = load_scene(scene_path);
+  if (!scene) return 2;
+
+  lambert::SolveControl control;
+  if (isatty(STDERR_FILENO)) {
+    control.progress = [last = -1](double f) mutable {
+      const int percent = static_cast<int>(f * 100);
+      if (percent != last) std::fprintf(stderr, "\rsolving: %3d %%", last = percent);
+      if (percent >= 100) std::fprintf(stderr, "\n");
+    };
+  }
+  try {
+    const lambert::Solution solution = lambert::solve(*scene, control);
+    const lambert::Report report = lambert::make_report(*scene, solution);
+    const std::string json = lambert::encode_result(*scene, solution, report);
+    if (output_path.empty()) {
+      std::cout << json << "\n";
+      std::cerr << lambert::summarize(*scene, solution, report);
+    } else {
+      std::ofstream out(output_path, std::ios::binary);
+      out << json << "\n";
+      if (!out) {
+        std::cerr << "lambert: cannot write " << output_path << "\n";
+        return 1;
+      }
+      std::cout << lambert::summarize(*scene, solution, report) << "result written to " << output_path << "\n";
+    }
+  } catch (const lambert::SolveError& e) {
+    std::cerr << "lambert: " << e.what() << "\n";
+    return 1;
+  } catch (const std::exception& e) {
+    std::cerr << "lambert: solve failed: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2) return usage_error("no command");
+  const std::string command = argv[1];
+  const std::vector<std::string> args(argv + 2, argv + argc);
+  if (command == "solve") return solve(args);
+  if (command == "check") return check(args);
+  if (command == "-h" || command == "--help" || command == "help") {
+    std::cout << kUsage;
+    return 0;
+  }
+  if (command == "serve" || command == "render" || command == "bench")
+    return usage_error("'" + command + "' is not available in this version");
+  return usage_error("unknown command '" + command + "'");
+}

@@ -1,0 +1,163 @@
+// Result JSON per SPEC §2. Numbers that could be non-finite never reach here (the solver throws
+// instead), so nlohmann's "NaN becomes null" behaviour (STACK.md P10) cannot lose information.
+#include "server/result_codec.h"
+
+#include <cstdio>
+#include <nlohmann/json.hpp>
+
+namespace lambert {
+namespace {
+
+using nlohmann::json;
+
+json point_json(const Point3& p, double unit_m) { return json::array({p.x / unit_m, p.y / unit_m, p.z / unit_m}); }
+
+json spectrum_json(const double* values, std::size_t W, double scale = 1.0) {
+  json a = json::array();
+  for (std::size_t w = 0; w < W; ++w) a.push_back(values[w] * scale);
+  return a;
+}
+
+template <std::size_t K>
+json array_json(const std::array<double, K>& v) {
+  json a = json::array();
+  for (double x : v) a.push_back(x);
+  return a;
+}
+
+}  // namespace
+
+std::string encode_result(const Scene& scene, const Solution& sol, const Report& report, int indent) {
+  const std::size_t W = sol.wavelengths();
+  const bool spectral = scene.output.spectral;
+  json out;
+  out["lambert"] = 1;
+  out["name"] = scene.name;
+  out["wavelengths_nm"] = sol.grid.nm;
+
+  json patches = json::array();
+  for (std::size_t i = 0; i < sol.patches.size(); ++i) {
+    const Patch& p = sol.patches[i];
+    const PatchPhotometry& ph = report.patches[i];
+    json j;
+    j["id"] = i;
+    j["surface"] = scene.surfaces[p.surface].name;
+    j["vertices"] = json::array({point_json(p.triangle.v[0], scene.unit_m), point_json(p.triangle.v[1], scene.unit_m),
+                                 point_json(p.triangle.v[2], scene.unit_m)});
+    j["area"] = p.area_m2;
+    j["normal"] = json::array({p.normal.x, p.normal.y, p.normal.z});
+    if (spectral) {
+      j["radiosity"] = spectrum_json(&sol.radiosity[i * W], W);
+      j["irradiance"] = spectrum_json(&sol.irradiance[i * W], W);
+      j["radiance"] = spectrum_json(&sol.radiosity[i * W], W, 1 / kPi);
+    }
+    j["illuminance_lx"] = ph.illuminance_lx;
+    j["luminance_cd_m2"] = ph.luminance_cd_m2;
+    j["xyz"] = json::array({ph.xyz.X, ph.xyz.Y, ph.xyz.Z});
+    j["xy"] = array_json(ph.xy);
+    j["rgb_ebu"] = array_json(ph.rgb_ebu);
+    j["srgb"] = array_json(ph.srgb);
+    j["srgb_encoded"] = array_json(ph.srgb_encoded);
+    patches.push_back(std::move(j));
+  }
+  out["patches"] = std::move(patches);
+
+  json surfaces = json::array();
+  for (const SurfaceSummary& s : report.surfaces) {
+    json j;
+    j["name"] = s.name;
+    j["area"] = s.area_m2;
+    j["illuminance_lx"] = {{"mean", s.illuminance_mean_lx}, {"min", s.illuminance_min_lx}, {"max", s.illuminance_max_lx}};
+    j["luminance_cd_m2"] = s.luminance_mean_cd_m2;
+    j["radiosity_mean"] = s.radiosity_mean;
+    j["irradiance_mean"] = s.irradiance_mean;
+    surfaces.push_back(std::move(j));
+  }
+  out["surfaces"] = std::move(surfaces);
+
+  json probes = json::array();
+  for (std::size_t k = 0; k < scene.probes.size(); ++k) {
+    const Probe& probe = scene.probes[k];
+    const ProbeSummary& ps = report.probes[k];
+    const auto& E = sol.probes[k].irradiance;
+    json j;
+    j["name"] = probe.name;
+    if (!probe.is_grid) {
+      j["position"] = point_json(probe.points[0], scene.unit_m);
+      j["irradiance"] = spectrum_json(E.data(), W);
+      j["illuminance_lx"] = ps.illuminance_lx.at(0);
+    } else {
+      json points = json::array();
+      for (const Point3& p : probe.points) points.push_back(point_json(p, scene.unit_m));
+      j["nu"] = probe.nu;
+      j["nv"] = probe.nv;
+      j["points"] = std::move(points);
+      j["illuminance_lx"] = ps.illuminance_lx;
+      if (spectral) {
+        json irr = json::array();
+        for (std::size_t q = 0; q < probe.points.size(); ++q) irr.push_back(spectrum_json(&E[q * W], W));
+        j["irradiance"] = std::move(irr);
+      }
+      j["min_lx"] = ps.min_lx;
+      j["mean_lx"] = ps.mean_lx;
+      j["max_lx"] = ps.max_lx;
+      j["uniformity"] = {{"min_over_mean", ps.min_over_mean}, {"min_over_max", ps.min_over_max}};
+    }
+    probes.push_back(std::move(j));
+  }
+  out["probes"] = std::move(probes);
+
+  const SolveStats& st = sol.stats;
+  out["stats"] = {
+      {"patches", st.patches},
+      {"links", st.links},
+      {"rays", st.rays},
+      {"iterations", st.iterations},
+      {"residual", st.residual},
+      {"spectral_systems_solved", st.spectral_systems_solved},
+      {"max_patch_area_m2", st.max_patch_area_m2},
+      {"energy",
+       {{"emitted_W", st.emitted_W},
+        {"absorbed_W", st.absorbed_W},
+        {"escaped_W", st.escaped_W},
+        {"relative_imbalance", st.relative_imbalance}}},
+      {"closure_max_error", st.max_closure_error},
+      {"time_s",
+       {{"meshing", st.time_meshing_s},
+        {"visibility", st.time_visibility_s},
+        {"form_factors", st.time_form_factors_s},
+        {"solve", st.time_solve_s},
+        {"probes", st.time_probes_s},
+        {"total", st.time_total_s}}}};
+  out["warnings"] = sol.warnings;
+  return out.dump(indent);
+}
+
+std::string summarize(const Scene& scene, const Solution& sol, const Report& report) {
+  const SolveStats& st = sol.stats;
+  std::string s;
+  char line[512];
+  std::snprintf(line, sizeof line, "%s: %zu patches, %zu links, %llu rays, %d spectral system(s), %.3f s\n",
+                scene.name.empty() ? "scene" : scene.name.c_str(), st.patches, st.links,
+                static_cast<unsigned long long>(st.rays), st.spectral_systems_solved, st.time_total_s);
+  s += line;
+  std::snprintf(line, sizeof line, "energy: emitted %.6g W, absorbed %.6g W, escaped %.6g W, imbalance %.2e\n",
+                st.emitted_W, st.absorbed_W, st.escaped_W, st.relative_imbalance);
+  s += line;
+  s += "mean illuminance per surface:\n";
+  for (const SurfaceSummary& surf : report.surfaces) {
+    std::snprintf(line, sizeof line, "  %-24s %12.4f lx  (min %.4f, max %.4f)\n", surf.name.c_str(),
+                  surf.illuminance_mean_lx, surf.illuminance_min_lx, surf.illuminance_max_lx);
+    s += line;
+  }
+  for (std::size_t k = 0; k < report.probes.size(); ++k) {
+    const ProbeSummary& p = report.probes[k];
+    std::snprintf(line, sizeof line, "probe %-18s mean %.4f lx (min %.4f, max %.4f, Emin/Emean %.3f)\n",
+                  scene.probes[k].name.c_str(), p.mean_lx, p.min_lx, p.max_lx, p.min_over_mean);
+    s += line;
+  }
+  for (const std::string& w : sol.warnings) s += "warning: " + w + "\n";
+  return s;
+}
+
+}  // namespace lambert

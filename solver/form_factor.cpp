@@ -1,0 +1,125 @@
+// Exact point-to-polygon form factors and adaptive cubature of them over receiving triangles.
+// See form_factor.h for the formulas and conventions.
+#include "solver/form_factor.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include "solver/cubature.h"
+#include "solver/spectrum.h"
+
+namespace lambert {
+namespace {
+
+constexpr int kMaxClippedVertices = 20;
+
+// Lambert/Hottel contour sum for a polygon (given as vectors R_i from p) wholly in front of p's plane
+// and counter-clockwise about its own front normal as seen from p. For that orientation each edge
+// contributes γ_i n·(R_{i+1} × R_i)/|R_{i+1} × R_i| ≥ 0 to 2π F.
+double contour_sum(const Vector3& n, const Vector3* R, int count) {
+  double sum = 0;
+  for (int i = 0; i < count; ++i) {
+    const Vector3& a = R[i];
+    const Vector3& b = R[(i + 1) % count];
+    const Vector3 c = cross(b, a);
+    const double c_len = length(c);
+    if (c_len == 0) continue;  // parallel (γ = 0) or p on the edge line (measure-zero case)
+    const double gamma = std::atan2(c_len, dot(a, b));
+    sum += gamma * dot(n, c) / c_len;
+  }
+  return sum;
+}
+
+}  // namespace
+
+double point_polygon_factor(const Point3& p, const Vector3& n, std::span<const Point3> polygon) {
+  const int count = static_cast<int>(polygon.size());
+  if (count < 3 || count > kMaxClippedVertices - 4) return 0;
+
+  // Only the front side emits: p must lie strictly in front of the polygon's plane.
+  Vector3 newell;
+  for (int i = 0; i < count; ++i) {
+    const Point3& a = polygon[i];
+    const Point3& b = polygon[(i + 1) % count];
+    newell += Vector3{(a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x), (a.x - b.x) * (a.y + b.y)};
+  }
+  if (dot(p - polygon[0], newell) <= 0) return 0;
+
+  // Clip at p's horizon (Sutherland–Hodgman against the plane through p with normal n): the part of
+  // the polygon below the horizon is invisible to a one-sided receiver.
+  std::array<Vector3, kMaxClippedVertices> R;
+  int clipped = 0;
+  for (int i = 0; i < count; ++i) {
+    const Vector3 a = polygon[i] - p;
+    const Vector3 b = polygon[(i + 1) % count] - p;
+    const double da = dot(a, n);
+    const double db = dot(b, n);
+    if (da >= 0) R[clipped++] = a;
+    if ((da >= 0) != (db >= 0)) {
+      const double t = da / (da - db);
+      R[clipped++] = a + (b - a) * t;
+    }
+  }
+  if (clipped < 3) return 0;
+  return std::max(0.0, contour_sum(n, R.data(), clipped) / (2 * kPi));
+}
+
+double point_triangle_factor(const Point3& p, const Vector3& n, const Triangle& t) {
+  return point_polygon_factor(p, n, std::span<const Point3>(t.v.data(), 3));
+}
+
+double triangle_solid_angle(const Point3& p, const Triangle& t) {
+  const Vector3 a = t.v[0] - p, b = t.v[1] - p, c = t.v[2] - p;
+  const double la = length(a), lb = length(b), lc = length(c);
+  const double numerator = std::abs(dot(a, cross(b, c)));
+  const double denominator = la * lb * lc + dot(a, b) * lc + dot(a, c) * lb + dot(b, c) * la;
+  return 2 * std::atan2(numerator, denominator);
+}
+
+namespace {
+
+// Strang & Fix 3-point rule, degree 2.
+constexpr std::array<std::array<double, 3>, 3> kDeg2Points = {
+    {{2.0 / 3, 1.0 / 6, 1.0 / 6}, {1.0 / 6, 2.0 / 3, 1.0 / 6}, {1.0 / 6, 1.0 / 6, 2.0 / 3}}};
+constexpr std::array<double, 3> kDeg2Weights = {1.0 / 3, 1.0 / 3, 1.0 / 3};
+
+// Radon's 7-point rule, degree 5 (a = (6 - √15)/21, b = (6 + √15)/21).
+constexpr double kSqrt15 = 3.872983346207417;
+constexpr double kA = (6 - kSqrt15) / 21, kB = (6 + kSqrt15) / 21;
+constexpr double kWa = (155 - kSqrt15) / 1200, kWb = (155 + kSqrt15) / 1200;
+constexpr std::array<std::array<double, 3>, 7> kDeg5Points = {{{1.0 / 3, 1.0 / 3, 1.0 / 3},
+                                                                {kA, kA, 1 - 2 * kA},
+                                                                {kA, 1 - 2 * kA, kA},
+                                                                {1 - 2 * kA, kA, kA},
+                                                                {kB, kB, 1 - 2 * kB},
+                                                                {kB, 1 - 2 * kB, kB},
+                                                                {1 - 2 * kB, kB, kB}}};
+constexpr std::array<double, 7> kDeg5Weights = {9.0 / 40, kWa, kWa, kWa, kWb, kWb, kWb};
+
+double bounding_radius(const Triangle& t, const Point3& c) {
+  return std::max({distance(c, t.v[0]), distance(c, t.v[1]), distance(c, t.v[2])});
+}
+
+}  // namespace
+
+TriangleRule triangle_rule_degree2() { return {kDeg2Points.data(), kDeg2Weights.data(), 3}; }
+TriangleRule triangle_rule_degree5() { return {kDeg5Points.data(), kDeg5Weights.data(), 7}; }
+
+double area_form_factor(const Triangle& receiver, const Triangle& source,
+                        const AreaFactorOptions& options) {
+  const Vector3 n = receiver.normal();
+  const Point3 cr = receiver.centroid(), cs = source.centroid();
+  const double separation =
+      distance(cr, cs) / (bounding_radius(receiver, cr) + bounding_radius(source, cs));
+  auto kernel = [&](const Point3& p) { return point_triangle_factor(p, n, source); };
+  const double coarse = apply_rule(triangle_rule_degree5(), receiver, kernel);
+  // Well separated pairs: the integrand is smooth on the scale of the receiver and the degree-5 rule
+  // is accurate far below the tolerance (measured in form_factor_test, "far field").
+  if (separation > options.far_field_separation) return coarse;
+  const double tolerance = std::max(options.abs_tolerance * receiver.area(),
+                                    options.rel_tolerance * std::abs(coarse));
+  return integrate_adaptive(receiver, kernel, coarse, tolerance, options.max_depth);
+}
+
+}  // namespace lambert

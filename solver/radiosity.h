@@ -1,0 +1,80 @@
+// The radiosity solver: scene in, per-patch spectral radiosity and irradiance out.
+//
+//   B_i(λ) = M_i(λ) + ρ_i(λ) H_i(λ),   H_i = Σ_j F_ij B_j + E_i^direct          (constant elements)
+//
+// F_ij from the exact point-to-polygon kernel integrated over patch i (solver/form_factor.h) times a
+// ray-traced visible fraction (solver/visibility.h). The system is solved per distinct spectral
+// system with conjugate gradients on its symmetric form (A/ρ − G) B = A (M/ρ + E^direct) with
+// G_ij = A_i F_ij = G_ji, which converges in O(sqrt(1/(1−ρ))) iterations even for ρ → 1.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "solver/scene.h"
+
+namespace lambert {
+
+struct Patch {
+  int surface = 0;          // index into Scene::surfaces
+  Triangle triangle;        // metres
+  double area_m2 = 0;
+  Vector3 normal;
+};
+
+struct ProbeResult {
+  std::vector<double> irradiance;  // [point][λ] flat, W m^-2 nm^-1
+};
+
+struct SolveStats {
+  std::size_t patches = 0;
+  std::size_t links = 0;               // patch pairs with a non-zero factor
+  std::uint64_t rays = 0;
+  int iterations = 0;                  // largest over the spectral systems
+  double residual = 0;                 // largest final relative residual
+  int spectral_systems_solved = 0;
+  double emitted_W = 0, absorbed_W = 0, escaped_W = 0, relative_imbalance = 0;
+  double max_closure_error = 0;        // max_i |1 − Σ_j F_ij| over patches of closed scenes (info)
+  double time_meshing_s = 0, time_visibility_s = 0, time_form_factors_s = 0, time_solve_s = 0,
+         time_probes_s = 0, time_total_s = 0;
+  double max_patch_area_m2 = 0;
+};
+
+struct Solution {
+  WavelengthGrid grid;
+  std::vector<Patch> patches;
+  std::vector<double> radiosity;    // [patch][λ] flat, W m^-2 nm^-1 (B)
+  std::vector<double> irradiance;   // [patch][λ] flat, W m^-2 nm^-1 (H)
+  std::vector<ProbeResult> probes;  // parallel to Scene::probes
+  SolveStats stats;
+  std::vector<std::string> warnings;
+  std::size_t wavelengths() const { return grid.size(); }
+};
+
+// Progress in [0, 1] and cooperative cancellation (checked between work items).
+struct SolveControl {
+  std::function<void(double)> progress;
+  const std::atomic<bool>* cancel = nullptr;
+};
+
+class SolveCancelled : public std::runtime_error {
+ public:
+  SolveCancelled() : std::runtime_error("solve cancelled") {}
+};
+// A scene that is valid JSON but cannot be solved (e.g. a closed room with ρ = 1 everywhere).
+class SolveError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+Solution solve(const Scene& scene, const SolveControl& control = {});
+
+// The default patch size when the scene does not set meshing.max_patch_area: total area / 1200,
+// which keeps the Cornell box near 1500 patches.
+double default_max_patch_area(const Scene& scene);
+
+}  // namespace lambert

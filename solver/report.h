@@ -1,0 +1,46 @@
+// Photometric and colour values derived from a spectral Solution, computed once at the end
+// (SPEC: compute radiometrically, convert at the end). Shared by the JSON codec and the CLI summary.
+#pragma once
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "solver/radiosity.h"
+
+namespace lambert {
+
+struct PatchPhotometry {
+  double illuminance_lx = 0;       // 683 ∫ H ȳ dλ
+  double luminance_cd_m2 = 0;      // 683 ∫ (B/π) ȳ dλ
+  Xyz xyz{};                       // of the radiance B/π (Y = luminance)
+  std::array<double, 2> xy{};      // chromaticity
+  std::array<double, 3> rgb_ebu{}; // linear, same absolute scale as XYZ
+  std::array<double, 3> srgb{};    // linear, same absolute scale as XYZ
+  std::array<double, 3> srgb_encoded{};  // display values in [0,1], white = brightest reflector
+};
+
+struct SurfaceSummary {
+  std::string name;
+  double area_m2 = 0;
+  double illuminance_mean_lx = 0, illuminance_min_lx = 0, illuminance_max_lx = 0;  // area-weighted mean
+  double luminance_mean_cd_m2 = 0;
+  std::vector<double> radiosity_mean;   // area-weighted, W m^-2 nm^-1
+  std::vector<double> irradiance_mean;  // area-weighted, W m^-2 nm^-1
+};
+
+struct ProbeSummary {
+  std::vector<double> illuminance_lx;   // per point
+  double min_lx = 0, mean_lx = 0, max_lx = 0;
+  double min_over_mean = 0, min_over_max = 0;  // uniformities (0 when the mean or max is 0)
+};
+
+struct Report {
+  std::vector<PatchPhotometry> patches;
+  std::vector<SurfaceSummary> surfaces;
+  std::vector<ProbeSummary> probes;
+};
+
+Report make_report(const Scene& scene, const Solution& solution);
+
+}  // namespace lambert

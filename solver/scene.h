@@ -1,0 +1,97 @@
+// The decoded, validated scene: plain C++ values in SI units (metres, radians, W, nm), every spectrum
+// already sampled on the scene's wavelength grid and every photometric total already applied.
+// Produced by the JSON codec (server/scene_codec.*); consumed by the solver. A Scene that exists is
+// valid: the codec returns errors instead of a half-filled Scene.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "mesh/geometry.h"
+#include "solver/spectrum.h"
+
+namespace lambert {
+
+enum class SpectrumMode { Spectral, Rgb };
+
+struct Material {
+  std::string name;
+  std::vector<double> reflectance;  // β(λ) per grid wavelength, each in [0, 1]
+};
+
+// Emission of a surface: exitance R(λ) [W m^-2 nm^-1] leaving the front side, distributed as
+// dI/dA(ψ) = R (n+1)/(2π ω0) cos^n ψ; n = 1 is the Lambertian emitter (L = R/π).
+struct Emission {
+  std::vector<double> exitance_W_m2_nm;
+  double lobe_exponent = 1.0;
+};
+
+struct Surface {
+  std::string name;
+  int material = 0;                 // index into Scene::materials
+  TriangleMesh mesh;                // metres; counter-clockwise = front (lit) side
+  std::optional<Emission> emission;
+  std::string pointer;              // JSON pointer of the surface in the scene, for messages
+};
+
+// Light sources (SPEC §1 "Light models"). Spectra are absolute after photometric scaling.
+struct AmbientLight { std::vector<double> irradiance_W_m2_nm; };
+struct DirectionalLight {
+  Vector3 direction;                // unit, the direction the light travels
+  std::vector<double> irradiance_W_m2_nm;  // on a plane perpendicular to the beam
+};
+struct Attenuation { double c1 = 0, c2 = 0, c3 = 1; };  // E = I cos α / (c1 + c2 r + c3 r²); default 1/r²
+// Point-like sources: isotropic point (exponent 0, no axis), goniometric cos^m (Warn: m = 1),
+// spot (cos^m inside cutoff, zero beyond). I(ψ) = I_0 cos^m ψ, zero for ψ > 90° when m > 0.
+struct PointLight {
+  enum class Kind { Point, Goniometric, Spot, Warn } kind = Kind::Point;
+  Point3 position;
+  Vector3 axis{0, 0, -1};           // unit; unused for Kind::Point
+  double exponent = 0;              // m
+  double cutoff_rad = kPi;          // spot only; pi means no cutoff
+  std::vector<double> intensity_W_sr_nm;  // I_0(λ), on the axis
+  Attenuation attenuation;
+  bool inverse_square = true;       // false: use attenuation polynomial
+};
+using Light = std::variant<AmbientLight, DirectionalLight, PointLight>;
+
+struct Probe {
+  std::string name;
+  std::vector<Point3> points;       // one point, or nu*nv grid points (u fastest)
+  Vector3 normal;                   // unit
+  bool is_grid = false;
+  int nu = 1, nv = 1;
+};
+
+struct MeshingOptions {
+  std::optional<double> max_patch_area_m2;  // absent: chosen from the scene's size
+  bool adaptive = false;
+};
+
+struct SolverOptions {
+  double tolerance = 1e-4;          // relative residual of the radiosity system
+  int max_iterations = 10000;
+};
+
+struct OutputOptions { bool spectral = true; };
+
+struct Scene {
+  int format_version = 1;
+  std::string name;
+  double unit_m = 1.0;              // metres per scene unit (results are per m²; positions in scene units)
+  SpectrumMode mode = SpectrumMode::Spectral;
+  WavelengthGrid grid;
+  std::vector<Material> materials;
+  std::vector<Surface> surfaces;
+  std::vector<Light> lights;
+  std::vector<std::string> light_pointers;  // JSON pointer per light, for messages
+  std::vector<Probe> probes;
+  MeshingOptions meshing;
+  SolverOptions solver;
+  OutputOptions output;
+  std::vector<std::string> warnings;  // decoder warnings (e.g. mesh health), carried into the result
+};
+
+}  // namespace lambert

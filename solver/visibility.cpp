@@ -1,0 +1,148 @@
+// Embree 3 wrapper: one device per process (STACK.md P16), one scene per Visibility, occlusion rays
+// as segments. Life cycle as in Embree's tutorials: new device -> new scene -> attach geometry ->
+// commit -> trace -> release.
+#include "solver/visibility.h"
+
+#include <embree3/rtcore.h>
+#include <pmmintrin.h>
+#include <xmmintrin.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <mutex>
+#include <stdexcept>
+#include <string>
+
+namespace lambert {
+namespace {
+
+void embree_error(void*, RTCError code, const char* message) {
+  // Errors are also raised as exceptions at the call sites that check rtcGetDeviceError.
+  (void)code;
+  (void)message;
+}
+
+RTCDevice shared_device() {
+  static std::once_flag once;
+  static RTCDevice device = nullptr;
+  std::call_once(once, [] {
+    device = rtcNewDevice(nullptr);
+    if (device) rtcSetDeviceErrorFunction(device, embree_error, nullptr);
+  });
+  if (!device) throw std::runtime_error("Embree device could not be created");
+  return device;
+}
+
+// Flush denormals in every tracing thread (STACK.md P17); cheap and per-thread.
+void set_ftz_daz() {
+  _MM_SET_FLUSH_ZERO_MODE(_MM_FLUSH_ZERO_ON);
+  _MM_SET_DENORMALS_ZERO_MODE(_MM_DENORMALS_ZERO_ON);
+}
+
+}  // namespace
+
+struct Visibility::Impl {
+  RTCScene scene = nullptr;
+  Point3 origin;              // re-centring offset (the scene's bounding-box centre)
+  double epsilon_m = 0;       // end-point exclusion distance
+  double scene_size = 1;      // bounding-box diagonal
+  mutable std::atomic<std::uint64_t> rays{0};
+
+  void fill_ray(const Point3& from, const Point3& to, RTCRay& ray) const {
+    const Vector3 d = to - from;
+    const double len = length(d);
+    const Vector3 o = from - origin;
+    ray.org_x = static_cast<float>(o.x);
+    ray.org_y = static_cast<float>(o.y);
+    ray.org_z = static_cast<float>(o.z);
+    ray.dir_x = static_cast<float>(d.x);
+    ray.dir_y = static_cast<float>(d.y);
+    ray.dir_z = static_cast<float>(d.z);
+    // Parametric exclusion at both ends; never more than 1 % of the segment.
+    const float t_eps = len > 0 ? static_cast<float>(std::min(0.01, epsilon_m / len)) : 0.5f;
+    ray.tnear = t_eps;
+    ray.tfar = 1.0f - t_eps;
+    ray.time = 0;
+    ray.mask = 0xFFFFFFFFu;
+    ray.id = 0;
+    ray.flags = 0;
+  }
+};
+
+Visibility::Visibility(std::span<const Triangle> occluders) : impl_(std::make_unique<Impl>()) {
+  RTCDevice device = shared_device();
+  Bounds3 bounds;
+  for (const Triangle& t : occluders)
+    for (const Point3& p : t.v) bounds.add(p);
+  impl_->origin = bounds.empty() ? Point3{} : bounds.center();
+  const double size = bounds.empty() ? 1.0 : std::max(length(bounds.diagonal()), 1e-30);
+  // Float positions carry ~6e-8 relative error of the (re-centred) scene size; stay well above it.
+  impl_->epsilon_m = 1e-6 * size;
+  impl_->scene_size = size;
+
+  impl_->scene = rtcNewScene(device);
+  if (!occluders.empty()) {
+    RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
+        geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), 3 * occluders.size()));
+    auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
+        geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), occluders.size()));
+    if (!vertices || !indices) throw std::runtime_error("Embree could not allocate geometry buffers");
+    for (std::size_t t = 0; t < occluders.size(); ++t) {
+      for (int k = 0; k < 3; ++k) {
+        const Vector3 v = occluders[t].v[k] - impl_->origin;
+        vertices[9 * t + 3 * k + 0] = static_cast<float>(v.x);
+        vertices[9 * t + 3 * k + 1] = static_cast<float>(v.y);
+        vertices[9 * t + 3 * k + 2] = static_cast<float>(v.z);
+        indices[3 * t + k] = static_cast<unsigned>(3 * t + k);
+      }
+    }
+    rtcCommitGeometry(geometry);
+    rtcAttachGeometry(impl_->scene, geometry);
+    rtcReleaseGeometry(geometry);
+  }
+  rtcCommitScene(impl_->scene);
+  if (rtcGetDeviceError(device) != RTC_ERROR_NONE)
+    throw std::runtime_error("Embree failed to build the visibility scene");
+}
+
+Visibility::~Visibility() {
+  if (impl_ && impl_->scene) rtcReleaseScene(impl_->scene);
+}
+
+bool Visibility::visible(const Point3& from, const Point3& to) const {
+  set_ftz_daz();
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  alignas(16) RTCRay ray;
+  impl_->fill_ray(from, to, ray);
+  rtcOccluded1(impl_->scene, &context, &ray);
+  impl_->rays.fetch_add(1, std::memory_order_relaxed);
+  return ray.tfar >= 0;  // occlusion sets tfar = -inf
+}
+
+bool Visibility::visible_towards(const Point3& from, const Vector3& direction) const {
+  // A segment to a point beyond the scene's bounding sphere in that direction.
+  const Point3 far = from + normalize(direction) * (4 * impl_->scene_size + distance(from, impl_->origin));
+  return visible(from, far);
+}
+
+void Visibility::visible(std::span<const Segment> segments, std::span<std::uint8_t> visible) const {
+  set_ftz_daz();
+  constexpr std::size_t kStream = 256;  // rtcOccluded1M sweet spot on this machine (STACK.md §4)
+  alignas(16) RTCRay rays[kStream];
+  RTCIntersectContext context;
+  for (std::size_t start = 0; start < segments.size(); start += kStream) {
+    const std::size_t m = std::min(kStream, segments.size() - start);
+    for (std::size_t k = 0; k < m; ++k) impl_->fill_ray(segments[start + k].from, segments[start + k].to, rays[k]);
+    rtcInitIntersectContext(&context);
+    rtcOccluded1M(impl_->scene, &context, rays, static_cast<unsigned>(m), sizeof(RTCRay));
+    for (std::size_t k = 0; k < m; ++k) visible[start + k] = rays[k].tfar >= 0 ? 1 : 0;
+  }
+  impl_->rays.fetch_add(segments.size(), std::memory_order_relaxed);
+}
+
+std::uint64_t Visibility::rays_traced() const { return impl_->rays.load(); }
+
+}  // namespace lambert

@@ -1,0 +1,41 @@
+// Ray-traced visibility between points of the scene (Embree 3). All Embree types stay in
+// visibility.cpp. The scene is re-centred on its bounding-box centre before it is handed to Embree's
+// single-precision BVH, so geo-referenced coordinates (x ≈ 5e5 m) lose no precision.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "mesh/geometry.h"
+
+namespace lambert {
+
+struct Segment { Point3 from, to; };
+
+class Visibility {
+ public:
+  // Occluders: every triangle of the scene (metres). Throws std::runtime_error if Embree fails.
+  explicit Visibility(std::span<const Triangle> occluders);
+  ~Visibility();
+  Visibility(const Visibility&) = delete;
+  Visibility& operator=(const Visibility&) = delete;
+
+  // Whether the open segment between the points is unobstructed. The ends are excluded by a small
+  // distance (a few float ulps of the scene's size) so that rays leaving or reaching a surface do not
+  // hit that surface itself.
+  bool visible(const Point3& from, const Point3& to) const;
+  // Whether a ray from `from` in `direction` leaves the scene without hitting anything.
+  bool visible_towards(const Point3& from, const Vector3& direction) const;
+  // Batch form (uses Embree's stream API): visible[k] = 1 if segment k is unobstructed.
+  void visible(std::span<const Segment> segments, std::span<std::uint8_t> visible) const;
+
+  std::uint64_t rays_traced() const;  // total since construction (all threads)
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace lambert

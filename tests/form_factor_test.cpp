@@ -1,0 +1,149 @@
+// The analytic kernel against Howell's catalogue (values from ../shared/REFERENCES.md, computed there
+// at 30 digits), reciprocity, and the cubature's accuracy for touching and distant patches.
+#include "solver/form_factor.h"
+
+#include <gtest/gtest.h>
+
+#include "solver/spectrum.h"
+#include "tests/test_geometry.h"
+
+namespace lambert {
+namespace {
+
+using test::rectangle;
+
+double point_rect_factor(const Point3& p, const Vector3& n, const std::vector<Triangle>& rect) {
+  double f = 0;
+  for (const Triangle& t : rect) f += point_triangle_factor(p, n, t);
+  return f;
+}
+
+// Σ over triangle pairs of A_i F_ij, divided by A_1: the rectangle-to-rectangle factor F(1 -> 2).
+double rect_rect_factor(const std::vector<Triangle>& r1, const std::vector<Triangle>& r2) {
+  double g = 0, a1 = 0;
+  for (const Triangle& a : r1) {
+    a1 += a.area();
+    for (const Triangle& b : r2) g += area_form_factor(a, b);
+  }
+  return g / a1;
+}
+
+// Emitter facing down (-z) at height c over [0,a]x[0,b]: u = y-edge, v = x-edge gives normal -z.
+std::vector<Triangle> ceiling_rect(double x0, double y0, double a, double b, double c) {
+  return rectangle({x0, y0, c}, {0, b, 0}, {a, 0, 0});
+}
+
+TEST(PointPolygonFactor, HowellB3CornerElement) {
+  // V1: F = 1/(2π)[X/√(1+X²) atan(Y/√(1+X²)) + Y/√(1+Y²) atan(X/√(1+Y²))], c = 1.
+  const struct { double X, Y, F; } rows[] = {{0.1, 0.1, 0.003141243123}, {0.2, 0.5, 0.02682750363},
+                                             {1, 1, 0.138531606},       {1, 2, 0.1673750099},
+                                             {5, 5, 0.2420848892},      {100, 100, 0.249979544}};
+  for (const auto& r : rows) {
+    const double f = point_rect_factor({0, 0, 0}, {0, 0, 1}, ceiling_rect(0, 0, r.X, r.Y, 1));
+    EXPECT_NEAR(f, r.F, 1e-9 * std::max(1.0, r.F)) << "X=" << r.X << " Y=" << r.Y;
+  }
+}
+
+TEST(PointPolygonFactor, CentredSquareAndLambertianIlluminance) {
+  // V1c: element centred under a square of side s at distance h = 1: 4 V1(s/2, s/2).
+  EXPECT_NEAR(point_rect_factor({0, 0, 0}, {0, 0, 1}, ceiling_rect(-1, -1, 2, 2, 1)), 0.554126424, 1e-9);
+  // P8: E = π L F, 1x1 square, h = 1, under a corner, L = 1: 0.4352098757.
+  EXPECT_NEAR(kPi * point_rect_factor({0, 0, 0}, {0, 0, 1}, ceiling_rect(0, 0, 1, 1, 1)), 0.4352098757, 1e-9);
+}
+
+TEST(PointPolygonFactor, HowellPerpendicularElement) {
+  // V2: element at the origin facing +z, rectangle in the plane y = c = 1, x in [0,X], z in [0,Z],
+  // front side facing -y (towards the element): F = 1/(2π)[atan X − atan(X/√(1+Z²))/√(1+Z²)].
+  const struct { double X, Z, F; } rows[] = {{0.1, 0.1, 1.565430981e-4}, {1, 1, 0.055734197},
+                                             {2, 1, 0.06869729888},     {1, 10, 0.1234293784},
+                                             {10, 1, 0.07317119233}};
+  for (const auto& r : rows) {
+    const auto rect = rectangle({0, 1, 0}, {r.X, 0, 0}, {0, 0, r.Z});  // normal (X,0,0)x(0,0,Z) = -y
+    EXPECT_NEAR(point_rect_factor({0, 0, 0}, {0, 0, 1}, rect), r.F, 1e-9) << "X=" << r.X << " Z=" << r.Z;
+  }
+}
+
+TEST(PointPolygonFactor, HorizonClippingKeepsOnlyTheVisiblePart) {
+  // The same wall extended below the element's plane (z in [-1, 1]): only z >= 0 is visible, so the
+  // factor equals V2(1, 1) = 0.055734197 exactly.
+  const auto wall = rectangle({0, 1, -1}, {1, 0, 0}, {0, 0, 2});  // faces -y
+  EXPECT_NEAR(point_rect_factor({0, 0, 0}, {0, 0, 1}, wall), 0.055734197, 1e-9);
+  // Seen from behind, a one-sided emitter contributes nothing.
+  EXPECT_EQ(point_rect_factor({0, 2, 0.5}, {0, -1, 0}, wall), 0.0);
+}
+
+TEST(SolidAngle, SquareCentredAbovePoint) {
+  // P6: Ω = 4 asin((a/2)² / ((a/2)² + h²)); a = 1, h = 1: 0.8054316832 sr; a = 2, h = 1: 2π/3.
+  double omega = 0;
+  for (const Triangle& t : ceiling_rect(-0.5, -0.5, 1, 1, 1)) omega += triangle_solid_angle({0, 0, 0}, t);
+  EXPECT_NEAR(omega, 0.8054316832, 1e-10);
+  omega = 0;
+  for (const Triangle& t : ceiling_rect(-1, -1, 2, 2, 1)) omega += triangle_solid_angle({0, 0, 0}, t);
+  EXPECT_NEAR(omega, 2 * kPi / 3, 1e-10);
+}
+
+TEST(AreaFormFactor, HowellC11OpposedRectangles) {
+  // V3 / C-11 rows; the receiver faces +z at z = 0, the source faces -z at z = c = 1.
+  const struct { double X, Y, F; } rows[] = {{1, 1, 0.1998248957}, {2, 2, 0.4152532836},
+                                             {0.5, 2, 0.165269219}, {1, 5, 0.3591665263},
+                                             {0.1, 0.1, 0.003162056839}, {10, 10, 0.8269945224}};
+  for (const auto& r : rows) {
+    const auto receiver = rectangle({0, 0, 0}, {r.X, 0, 0}, {0, r.Y, 0});
+    EXPECT_NEAR(rect_rect_factor(receiver, ceiling_rect(0, 0, r.X, r.Y, 1)), r.F, 2e-5 * r.F)
+        << "X=" << r.X << " Y=" << r.Y;
+    EXPECT_NEAR(test::howell_c11(r.X, r.Y), r.F, 1e-9);  // the formula helper itself
+  }
+}
+
+TEST(AreaFormFactor, HowellC14PerpendicularRectanglesSharingAnEdge) {
+  // V4 / C-14: common edge along x (length l = 1); A1 = floor of width W (y in [0,W]) facing +z,
+  // A2 = wall of height H (z in [0,H]) at y = 0 facing +y. The integrand is singular along the edge.
+  const struct { double W, H, F; } rows[] = {{1, 1, 0.2000437761}, {0.5, 1, 0.2923733582},
+                                             {2, 1, 0.1164263014}, {1, 10, 0.2492094858},
+                                             {0.1, 0.1, 0.2818878068}};
+  for (const auto& r : rows) {
+    const auto floor = rectangle({0, 0, 0}, {1, 0, 0}, {0, r.W, 0});
+    const auto wall = rectangle({0, 0, 0}, {0, 0, r.H}, {1, 0, 0});  // (0,0,H)x(1,0,0) = +y
+    EXPECT_NEAR(rect_rect_factor(floor, wall), r.F, 1e-4 * r.F) << "W=" << r.W << " H=" << r.H;
+    EXPECT_NEAR(test::howell_c14(r.W, r.H), r.F, 1e-9);
+  }
+}
+
+TEST(AreaFormFactor, ReciprocityIncludingTouchingPatches) {
+  // A_i F_ij = A_j F_ji: the cubature runs over different patches in the two directions, so this
+  // checks the kernel and the integration independently of any closed form.
+  const Triangle floor_a{{Point3{0, 0, 0}, Point3{1, 0, 0}, Point3{0, 1, 0}}};
+  const Triangle wall_b{{Point3{0, 0, 0}, Point3{0, 0, 1}, Point3{1, 0, 0}}};     // shares an edge
+  const Triangle wall_c{{Point3{0.3, 0, 0.2}, Point3{0.5, 0, 1.7}, Point3{1.9, 0, 0.1}}};
+  const Triangle far_d{{Point3{3, 2, 4}, Point3{2, 3, 4.5}, Point3{2.5, 2.1, 5}}};
+  for (const auto& [a, b] : {std::pair{floor_a, wall_b}, std::pair{floor_a, wall_c}}) {
+    const double ab = area_form_factor(a, b), ba = area_form_factor(b, a);
+    ASSERT_GT(ab, 0);
+    EXPECT_NEAR(ab, ba, 1e-4 * ab);
+  }
+  // A tilted far pair, both facing each other.
+  const Triangle tilted{{Point3{0, 0, 0}, Point3{1, 0, 0.2}, Point3{0, 1, 0.1}}};
+  Triangle facing = far_d;
+  if (area_form_factor(tilted, facing) == 0) std::swap(facing.v[1], facing.v[2]);
+  const double ab = area_form_factor(tilted, facing), ba = area_form_factor(facing, tilted);
+  ASSERT_GT(ab, 0);
+  EXPECT_NEAR(ab, ba, 1e-5 * ab);
+}
+
+TEST(AreaFormFactor, FarFieldShortcutIsAccurate) {
+  // Pairs just beyond the far-field threshold: the fixed rule against full adaptive cubature.
+  AreaFactorOptions adaptive_only;
+  adaptive_only.far_field_separation = 1e300;
+  adaptive_only.rel_tolerance = 1e-9;
+  const Triangle receiver{{Point3{0, 0, 0}, Point3{1, 0, 0}, Point3{0, 1, 0}}};
+  for (double h : {2.5, 4.0, 8.0}) {
+    for (double shift : {0.0, 1.5, 4.0}) {
+      const Triangle source{{Point3{shift, 0, h}, Point3{shift, 1, h}, Point3{shift + 1, 0, h}}};
+      const double reference = area_form_factor(receiver, source, adaptive_only);
+      EXPECT_NEAR(area_form_factor(receiver, source), reference, 1e-5 * reference) << h << " " << shift;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace lambert

@@ -1,0 +1,150 @@
+// The solver end to end on scenes built in code, against closed forms (../shared/REFERENCES.md):
+// Howell C-11 and C-14 patch averages, the isotropic point source, the furnace B = M/(1 − ρ) in
+// convex and non-convex rooms, energy balance, and the grey-scene single solve.
+#include "solver/radiosity.h"
+
+#include <gtest/gtest.h>
+
+#include <numeric>
+
+#include "solver/form_factor.h"
+#include "tests/scene_builder.h"
+
+namespace lambert {
+namespace {
+
+using test::box;
+using test::rectangle;
+using test::SceneBuilder;
+
+// Area-weighted mean of a per-patch quantity over one surface, at wavelength index w.
+double surface_mean(const Solution& sol, int surface, const std::vector<double>& values, std::size_t w = 0) {
+  double sum = 0, area = 0;
+  for (std::size_t i = 0; i < sol.patches.size(); ++i) {
+    if (sol.patches[i].surface != surface) continue;
+    sum += sol.patches[i].area_m2 * values[i * sol.wavelengths() + w];
+    area += sol.patches[i].area_m2;
+  }
+  return sum / area;
+}
+
+TEST(Radiosity, OpposedSquaresPatchAverage) {
+  // REFERENCES §0: E_avg(A2) = M1 F21; identical squares, so F21 = F12 = C-11(X, Y).
+  for (const auto& [X, Y, F] : {std::tuple{1.0, 1.0, 0.1998248957}, std::tuple{2.0, 5.0, 0.5299308595},
+                                std::tuple{0.5, 2.0, 0.165269219}}) {
+    SceneBuilder b;
+    const int black = b.material("black", 0.0);
+    b.surface("emitter", black, rectangle({0, 0, 1}, {0, Y, 0}, {X, 0, 0}), 1.0);  // faces -z
+    b.surface("receiver", black, rectangle({0, 0, 0}, {X, 0, 0}, {0, Y, 0}));   // faces +z
+    const Solution sol = solve(b.scene());
+    EXPECT_NEAR(surface_mean(sol, 1, sol.irradiance), F, 1e-4 * F) << X << "x" << Y;
+    // Energy: emitted = absorbed + escaped exactly (all absorbed surfaces are black).
+    EXPECT_NEAR(sol.stats.relative_imbalance, 0, 1e-9);
+  }
+}
+
+TEST(Radiosity, PerpendicularRectanglesPatchAverage) {
+  // C-14 with W = 1.5, H = 0.7 (l = 1): the wall emits, the floor receives E_avg = M F(floor->wall).
+  const double W = 1.5, H = 0.7;
+  SceneBuilder b;
+  const int black = b.material("black", 0.0);
+  b.surface("floor", black, rectangle({0, 0, 0}, {1, 0, 0}, {0, W, 0}));
+  b.surface("wall", black, rectangle({0, 0, 0}, {0, 0, H}, {1, 0, 0}), 2.0);
+  const Solution sol = solve(b.scene());
+  const double F = test::howell_c14(W, H);
+  EXPECT_NEAR(surface_mean(sol, 0, sol.irradiance), 2.0 * F, 1e-4 * 2.0 * F);
+}
+
+TEST(Radiosity, IsotropicPointSource) {
+  // P6: a square of side a = 1 centred under a source at h = 1 receives I Ω, Ω = 0.8054316832 sr;
+  // P1: probes E = I h/d³ (I = 100, h = 2, x = 1.5, d = 2.5): 200/15.625 = 12.8.
+  SceneBuilder b;
+  const int grey = b.material("grey", 0.0);
+  b.surface("floor", grey, rectangle({-0.5, -0.5, 0}, {1, 0, 0}, {0, 1, 0}));
+  b.point_light({0, 0, 1}, 100);
+  b.probe("below", {0, 0, -1}, {0, 0, 1});      // h = 2, but the floor blocks it: 0
+  b.probe("side", {1.5, 0, -1}, {0, 0, 1});     // the ray passes beside the floor (x = 0.75 at z = 0)
+  b.probe("centre", {0.2, 0.1, 0.5}, {0, 0, 1}); // between floor and light, facing the light
+  const Solution sol = solve(b.scene());
+  EXPECT_NEAR(surface_mean(sol, 0, sol.irradiance), 100 * 0.8054316832, 1e-9 * 100);
+  EXPECT_EQ(sol.probes[0].irradiance[0], 0.0);
+  EXPECT_NEAR(sol.probes[1].irradiance[0], 12.8, 1e-9);
+  const double h = 0.5, d = std::sqrt(0.2 * 0.2 + 0.1 * 0.1 + h * h);
+  EXPECT_NEAR(sol.probes[2].irradiance[0], 100 * h / (d * d * d), 1e-9);
+}
+
+TEST(Radiosity, FurnaceConvexRoom) {
+  // R1: closed enclosure, uniform M and ρ: B = M/(1 − ρ) on every patch, any mesh.
+  for (double rho : {0.5, 0.9, 0.999}) {
+    SceneBuilder b;
+    const int m = b.material("wall", rho);
+    b.surface("room", m, box({0, 0, 0}, {4, 3, 2.5}, true), 1.0);
+    b.scene().solver.tolerance = 1e-6;
+    const Solution sol = solve(b.scene());
+    const double expected = 1 / (1 - rho);
+    double worst = 0;
+    for (double B : sol.radiosity) worst = std::max(worst, std::abs(B - expected) / expected);
+    EXPECT_LT(worst, 1e-3) << "rho=" << rho;
+    EXPECT_LT(sol.stats.max_closure_error, 1e-5);
+  }
+}
+
+TEST(Radiosity, FurnaceRoomWithObstacle) {
+  // R1 in a non-convex enclosure: a floating box inside the room, everything with the same M and ρ.
+  SceneBuilder b;
+  const int m = b.material("wall", 0.5);
+  b.surface("room", m, box({0, 0, 0}, {4, 3, 2.5}, true), 1.0);
+  b.surface("obstacle", m, box({1.5, 1, 0.8}, {2.5, 2, 1.6}, false), 1.0);
+  const Solution sol = solve(b.scene());
+  double sum = 0, area = 0, worst = 0;
+  for (std::size_t i = 0; i < sol.patches.size(); ++i) {
+    sum += sol.patches[i].area_m2 * sol.radiosity[i];
+    area += sol.patches[i].area_m2;
+    worst = std::max(worst, std::abs(sol.radiosity[i] - 2.0) / 2.0);
+  }
+  EXPECT_NEAR(sum / area, 2.0, 2e-3);  // area mean
+  EXPECT_LT(worst, 1e-2);              // every patch
+}
+
+TEST(Radiosity, EnergyBalanceClosedRoomWithPointSource) {
+  // R5: in a closed room, Σ A_i (1 − ρ) H_i = Φ; the certificate's imbalance is tiny.
+  SceneBuilder b;
+  const int m = b.material("wall", 0.5);
+  b.surface("room", m, box({0, 0, 0}, {4, 4, 4}, true));
+  b.point_light({2, 2, 2}, 10000 / (4 * kPi));
+  const Solution sol = solve(b.scene());
+  EXPECT_NEAR(sol.stats.emitted_W, 10000, 1e-9 * 10000);
+  EXPECT_NEAR(sol.stats.absorbed_W, 10000, 1e-3 * 10000);
+  EXPECT_LT(std::abs(sol.stats.relative_imbalance), 1e-4);
+  // R5: area-mean total irradiance = Φ / (A (1 − ρ)) = 10000 / (96 · 0.5) = 208.3333333.
+  double sum = 0;
+  for (std::size_t i = 0; i < sol.patches.size(); ++i) sum += sol.patches[i].area_m2 * sol.irradiance[i];
+  EXPECT_NEAR(sum / 96, 208.3333333, 1e-3 * 208.3333333);
+}
+
+TEST(Radiosity, GreyScenesSolveOneSystem) {
+  // 81 wavelengths, every reflectance and emission grey: one linear system, identical answers.
+  std::vector<double> nm(81);
+  for (int k = 0; k < 81; ++k) nm[k] = 380 + 5 * k;
+  SceneBuilder b(nm);
+  const int m = b.material("wall", 0.7);
+  b.surface("room", m, box({0, 0, 0}, {1, 1, 1}, true), 1.0);
+  b.max_patch_area(0.05);
+  const Solution sol = solve(b.scene());
+  EXPECT_EQ(sol.stats.spectral_systems_solved, 1);
+  for (std::size_t i = 0; i < sol.patches.size(); ++i)
+    for (std::size_t w = 1; w < 81; ++w) ASSERT_EQ(sol.radiosity[i * 81 + w], sol.radiosity[i * 81]);
+}
+
+TEST(Radiosity, CancellationIsHonoured) {
+  SceneBuilder b;
+  const int m = b.material("wall", 0.5);
+  b.surface("room", m, box({0, 0, 0}, {1, 1, 1}, true), 1.0);
+  std::atomic<bool> cancel{true};
+  SolveControl control;
+  control.cancel = &cancel;
+  EXPECT_THROW(solve(b.scene(), control), SolveCancelled);
+}
+
+}  // namespace
+}  // namespace lambert

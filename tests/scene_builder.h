@@ -1,0 +1,73 @@
+// Builds Scenes in code for solver tests (independent of the JSON codec).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "solver/scene.h"
+#include "tests/test_geometry.h"
+
+namespace lambert::test {
+
+class SceneBuilder {
+ public:
+  explicit SceneBuilder(std::vector<double> wavelengths_nm = {555}) {
+    scene_.grid = WavelengthGrid::from_list(std::move(wavelengths_nm));
+  }
+  std::size_t W() const { return scene_.grid.size(); }
+
+  int material(const std::string& name, double rho) {
+    scene_.materials.push_back({name, std::vector<double>(W(), rho)});
+    return static_cast<int>(scene_.materials.size()) - 1;
+  }
+  // A surface from triangles (front side counter-clockwise); emission is a constant exitance.
+  Surface& surface(const std::string& name, int material, const std::vector<Triangle>& triangles,
+                   double exitance = 0) {
+    Surface s;
+    s.name = name;
+    s.material = material;
+    s.pointer = "/surfaces/" + std::to_string(scene_.surfaces.size());
+    for (const Triangle& t : triangles) {
+      const int base = static_cast<int>(s.mesh.vertices.size());
+      for (const Point3& p : t.v) s.mesh.vertices.push_back(p);
+      s.mesh.triangles.push_back({base, base + 1, base + 2});
+    }
+    if (exitance > 0) s.emission = Emission{std::vector<double>(W(), exitance), 1.0};
+    scene_.surfaces.push_back(std::move(s));
+    return scene_.surfaces.back();
+  }
+  void point_light(const Point3& position, double intensity) {
+    PointLight l;
+    l.position = position;
+    l.intensity_W_sr_nm.assign(W(), intensity);
+    scene_.lights.push_back(l);
+    scene_.light_pointers.push_back("/lights/" + std::to_string(scene_.lights.size() - 1));
+  }
+  void probe(const std::string& name, const Point3& p, const Vector3& n) {
+    scene_.probes.push_back(Probe{name, {p}, n, false, 1, 1});
+  }
+  void max_patch_area(double a) { scene_.meshing.max_patch_area_m2 = a; }
+  Scene& scene() { return scene_; }
+
+ private:
+  Scene scene_;
+};
+
+// Axis-aligned box [lo, hi] as 6 rectangles (12 triangles), normals pointing inward (a room) or
+// outward (an obstacle).
+inline std::vector<Triangle> box(const Point3& lo, const Point3& hi, bool inward) {
+  const double dx = hi.x - lo.x, dy = hi.y - lo.y, dz = hi.z - lo.z;
+  std::vector<Triangle> out;
+  auto add = [&](const Point3& o, const Vector3& u, const Vector3& v) {
+    for (const Triangle& t : inward ? rectangle(o, u, v) : rectangle(o, v, u)) out.push_back(t);
+  };
+  add(lo, {dx, 0, 0}, {0, dy, 0});                 // z = lo: inward normal +z
+  add({lo.x, lo.y, hi.z}, {0, dy, 0}, {dx, 0, 0});  // z = hi: -z
+  add(lo, {0, 0, dz}, {dx, 0, 0});                 // y = lo: +y
+  add({lo.x, hi.y, lo.z}, {dx, 0, 0}, {0, 0, dz});  // y = hi: -y
+  add(lo, {0, dy, 0}, {0, 0, dz});                 // x = lo: +x
+  add({hi.x, lo.y, lo.z}, {0, 0, dz}, {0, dy, 0});  // x = hi: -x
+  return out;
+}
+
+}  // namespace lambert::test
