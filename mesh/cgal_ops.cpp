@@ -1,0 +1,387 @@
+// CGAL side of mesh/mesh_ops.h: polygon triangulation and mesh health checks. This is the only
+// translation unit that includes CGAL (it costs about 15 s to compile), and no CGAL type leaves it.
+//
+// All decisions (collinearity, simplicity, intersections) use the exact predicates of the Epick
+// kernel on the input coordinates; no constructed (rounded) point is ever tested.
+#include "mesh/mesh_ops.h"
+
+#include <CGAL/Constrained_Delaunay_triangulation_2.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Polygon_2_algorithms.h>
+#include <CGAL/Triangulation_face_base_with_info_2.h>
+#include <CGAL/Triangulation_vertex_base_with_info_2.h>
+#include <CGAL/box_intersection_d.h>
+#include <CGAL/intersections.h>
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+#include <sstream>
+#include <tuple>
+#include <utility>
+
+namespace lambert {
+namespace {
+
+using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+using P2 = K::Point_2;
+using P3 = K::Point_3;
+
+std::string format_number(double x) {
+  std::ostringstream s;
+  s.precision(6);
+  s << x;
+  return s.str();
+}
+
+bool is_finite(const Point3& p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z); }
+P3 to_cgal(const Point3& p) { return {p.x, p.y, p.z}; }
+
+// ---- triangulate_polygon ------------------------------------------------------------------
+
+// Newell's normal: twice the vector area of a (possibly non-planar) polygon; its direction is the
+// normal seen from the side where the vertices turn counter-clockwise (Sutherland et al. 1974).
+Vector3 newell_normal(const std::vector<Point3>& p) {
+  Vector3 n;
+  for (std::size_t i = 0, m = p.size(); i < m; ++i) {
+    const Point3& a = p[i];
+    const Point3& b = p[(i + 1) % m];
+    n += Vector3{(a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x), (a.x - b.x) * (a.y + b.y)};
+  }
+  return n;
+}
+
+// Largest distance between two vertices; the bounding-box diagonal (an upper bound within a
+// factor sqrt(3)) for very long polygons, where the exact O(n^2) value is too slow.
+double polygon_diameter(const std::vector<Point3>& p) {
+  if (p.size() > 4096) {
+    Bounds3 b;
+    for (const Point3& q : p) b.add(q);
+    return length(b.diagonal());
+  }
+  double d2 = 0;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    for (std::size_t j = i + 1; j < p.size(); ++j) d2 = std::max(d2, length_squared(p[i] - p[j]));
+  return std::sqrt(d2);
+}
+
+// True if the closed polygon edges i -> i+1 and j -> j+1 share a point they should not share:
+// any point for non-adjacent edges, more than the common vertex for adjacent ones.
+bool edges_conflict(const std::vector<P2>& q, std::size_t i, std::size_t j) {
+  const std::size_t n = q.size();
+  const P2 &a = q[i], &b = q[(i + 1) % n], &c = q[j], &d = q[(j + 1) % n];
+  if ((i + 1) % n == j) {  // b == c: the edges fold back onto each other?
+    return CGAL::collinear(a, b, d) && CGAL::angle(a, b, d) == CGAL::ACUTE;
+  }
+  if ((j + 1) % n == i) {  // d == a
+    return CGAL::collinear(c, a, b) && CGAL::angle(c, a, b) == CGAL::ACUTE;
+  }
+  return CGAL::do_intersect(K::Segment_2(a, b), K::Segment_2(c, d));
+}
+
+// Constrained Delaunay triangulation of the polygon boundary; the faces inside the polygon are
+// those separated from the infinite face by an odd number of constrained edges.
+struct FaceInfo {
+  int nesting_level = -1;
+  bool in_domain() const { return nesting_level % 2 == 1; }
+};
+using Vb = CGAL::Triangulation_vertex_base_with_info_2<int, K>;
+using Fbb = CGAL::Triangulation_face_base_with_info_2<FaceInfo, K>;
+using Fb = CGAL::Constrained_triangulation_face_base_2<K, Fbb>;
+using Tds = CGAL::Triangulation_data_structure_2<Vb, Fb>;
+using CDT = CGAL::Constrained_Delaunay_triangulation_2<K, Tds,
+                                                       CGAL::No_constraint_intersection_tag>;
+
+void mark_domains(CDT& cdt) {
+  std::deque<CDT::Edge> border;
+  auto flood = [&](CDT::Face_handle start, int level) {
+    if (start->info().nesting_level != -1) return;
+    std::deque<CDT::Face_handle> queue{start};
+    while (!queue.empty()) {
+      CDT::Face_handle f = queue.front();
+      queue.pop_front();
+      if (f->info().nesting_level != -1) continue;
+      f->info().nesting_level = level;
+      for (int i = 0; i < 3; ++i) {
+        CDT::Face_handle g = f->neighbor(i);
+        if (g->info().nesting_level != -1) continue;
+        if (cdt.is_constrained(CDT::Edge(f, i))) border.emplace_back(f, i);
+        else queue.push_back(g);
+      }
+    }
+  };
+  flood(cdt.infinite_face(), 0);
+  while (!border.empty()) {
+    CDT::Edge e = border.front();
+    border.pop_front();
+    flood(e.first->neighbor(e.second), e.first->info().nesting_level + 1);
+  }
+}
+
+PolygonTriangulation failure(std::string message) {
+  PolygonTriangulation r;
+  r.error = std::move(message);
+  return r;
+}
+
+}  // namespace
+
+PolygonTriangulation triangulate_polygon(const std::vector<Point3>& polygon,
+                                         double planarity_tolerance) {
+  const std::size_t n = polygon.size();
+  if (!(planarity_tolerance >= 0) || !std::isfinite(planarity_tolerance))
+    return failure("planarity tolerance " + format_number(planarity_tolerance) +
+                   " must be finite and >= 0");
+  if (n < 3)
+    return failure("a polygon needs at least 3 vertices, got " + std::to_string(n));
+  for (std::size_t i = 0; i < n; ++i)
+    if (!is_finite(polygon[i]))
+      return failure("vertex " + std::to_string(i) + " has a non-finite coordinate");
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t j = (i + 1) % n;
+    if (polygon[i] == polygon[j]) {
+      if (j == 0)
+        return failure("vertex " + std::to_string(i) +
+                       " repeats vertex 0 (the last vertex equals the first: do not close the "
+                       "polygon explicitly)");
+      return failure("vertex " + std::to_string(j) + " repeats vertex " + std::to_string(i));
+    }
+  }
+
+  std::vector<P3> p3(n);
+  for (std::size_t i = 0; i < n; ++i) p3[i] = to_cgal(polygon[i]);
+  // Exact collinearity of all vertices (zero area for any plane).
+  std::size_t far = 1;  // a vertex not on the line p0 p1, if any
+  while (far < n && CGAL::collinear(p3[0], p3[1], p3[far])) ++far;
+  if (far == n) return failure("zero area: all vertices are collinear");
+
+  const double diameter = polygon_diameter(polygon);
+  Vector3 normal = newell_normal(polygon);
+  // A non-collinear polygon whose signed area vanishes (e.g. a symmetric bow-tie) is necessarily
+  // self-intersecting; fit its plane through three of its vertices so that the simplicity test
+  // below can name the crossing edges.
+  const bool vanishing_area = length(normal) <= 1e-14 * diameter * diameter;
+  if (vanishing_area) normal = cross(polygon[1] - polygon[0], polygon[far] - polygon[0]);
+  const Vector3 unit_normal = normalize(normal);
+
+  // Plane through the vertex centroid with the fitted normal; every vertex must be close to it.
+  Vector3 centroid;
+  for (const Point3& p : polygon) centroid += to_vector(p);
+  const Point3 origin = to_point(centroid / static_cast<double>(n));
+  std::size_t worst = 0;
+  double worst_distance = -1;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double d = std::abs(dot(polygon[i] - origin, unit_normal));
+    if (d > worst_distance) worst_distance = d, worst = i;
+  }
+  const double tolerance = planarity_tolerance * diameter;
+  if (worst_distance > tolerance)
+    return failure("non-planar: vertex " + std::to_string(worst) + " is " +
+                   format_number(worst_distance) + " m from the plane (tolerance " +
+                   format_number(tolerance) + " m)");
+
+  // Project by dropping the dominant coordinate of the normal: the 2D points are exact copies of
+  // input coordinates, so the exact predicates below judge the input itself. The two kept axes
+  // are ordered so that counter-clockwise in 2D means front side (along the normal).
+  const double an[3] = {std::abs(normal.x), std::abs(normal.y), std::abs(normal.z)};
+  const int drop = an[0] >= an[1] && an[0] >= an[2] ? 0 : (an[1] >= an[2] ? 1 : 2);
+  int u = (drop + 1) % 3, v = (drop + 2) % 3;  // (y,z), (z,x) or (x,y): right-handed with drop
+  if (normal[drop] < 0) std::swap(u, v);
+  std::vector<P2> q(n);
+  for (std::size_t i = 0; i < n; ++i) q[i] = P2(polygon[i][u], polygon[i][v]);
+
+  if (vanishing_area || !CGAL::is_simple_2(q.begin(), q.end(), K())) {
+    if (n <= 5000) {
+      for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t j = i + 1; j < n; ++j)
+          if (edges_conflict(q, i, j))
+            return failure("self-intersecting: edge " + std::to_string(i) + "-" +
+                           std::to_string((i + 1) % n) + " meets edge " + std::to_string(j) + "-" +
+                           std::to_string((j + 1) % n));
+    }
+    if (!vanishing_area) return failure("self-intersecting: the polygon is not simple");
+    return failure("zero area: the signed area of the polygon vanishes");
+  }
+
+  CDT cdt;
+  std::vector<CDT::Vertex_handle> handles(n);
+  try {
+    for (std::size_t i = 0; i < n; ++i) {
+      handles[i] = cdt.insert(q[i]);
+      handles[i]->info() = static_cast<int>(i);
+    }
+    for (std::size_t i = 0; i < n; ++i) cdt.insert_constraint(handles[i], handles[(i + 1) % n]);
+  } catch (const std::exception& e) {  // constraints crossing: cannot happen for a simple polygon
+    return failure(std::string("internal: constrained triangulation failed: ") + e.what());
+  }
+  mark_domains(cdt);
+
+  PolygonTriangulation result;
+  result.mesh.vertices = polygon;  // original 3D positions: no projection error
+  for (CDT::Face_handle f : cdt.finite_face_handles()) {
+    if (!f->info().in_domain()) continue;
+    result.mesh.triangles.push_back(
+        {f->vertex(0)->info(), f->vertex(1)->info(), f->vertex(2)->info()});
+  }
+  // A triangulation of a simple n-gon without interior vertices has exactly n - 2 triangles.
+  if (result.mesh.triangles.size() != n - 2)
+    return failure("internal: triangulation produced " +
+                   std::to_string(result.mesh.triangles.size()) + " triangles for " +
+                   std::to_string(n) + " vertices");
+  return result;
+}
+
+// ---- check_mesh ---------------------------------------------------------------------------
+
+namespace {
+
+// Do two non-degenerate triangles, given by welded vertex ids, share more than the vertices or
+// the edge they have in common? For a shared edge pq (t1 = pqr, t2 = pqs) the triangles overlap
+// exactly when they are coplanar and r, s lie on the same side of pq. For a shared vertex p they
+// meet elsewhere exactly when the edge opposite p of one triangle meets the other triangle (the
+// intersection is convex and contains p, so its far boundary lies on such an edge).
+//
+// Coplanar pairs (every pair of neighbours on a flat wall) are decided in 2D, dropping the
+// dominant axis of the plane's normal: that projection is a bijection of the plane, uses the input
+// coordinates unchanged, and the 2D predicates are much cheaper than CGAL's coplanar 3D ones.
+bool triangles_intersect(const std::array<int, 3>& a, const std::array<int, 3>& b,
+                         const std::vector<P3>& pts) {
+  int shared_a[3], shared_b[3], shared = 0;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      if (a[i] == b[j]) shared_a[shared] = i, shared_b[shared] = j, ++shared;
+  if (shared == 3) return true;  // the same triangle twice
+  auto A = [&](int i) -> const P3& { return pts[a[i]]; };
+  auto B = [&](int j) -> const P3& { return pts[b[j]]; };
+  auto is_shared_b = [&](int j) { return std::find(shared_b, shared_b + shared, j) != shared_b + shared; };
+
+  bool coplanar = true;
+  for (int j = 0; j < 3 && coplanar; ++j)
+    coplanar = is_shared_b(j) || CGAL::orientation(A(0), A(1), A(2), B(j)) == CGAL::COPLANAR;
+
+  if (coplanar) {
+    const K::Vector_3 n = CGAL::cross_product(A(1) - A(0), A(2) - A(0));
+    const double an[3] = {std::abs(n.x()), std::abs(n.y()), std::abs(n.z())};
+    const int drop = an[0] >= an[1] && an[0] >= an[2] ? 0 : (an[1] >= an[2] ? 1 : 2);
+    auto flat = [&](const P3& p) { return P2(p[(drop + 1) % 3], p[(drop + 2) % 3]); };
+    P2 a2[3], b2[3];
+    for (int i = 0; i < 3; ++i) a2[i] = flat(A(i)), b2[i] = flat(B(i));
+    if (!CGAL::collinear(a2[0], a2[1], a2[2])) {  // always, unless the normal was badly rounded
+      if (shared == 2) {
+        const int ra = 3 - shared_a[0] - shared_a[1], sb = 3 - shared_b[0] - shared_b[1];
+        const P2 &p = a2[shared_a[0]], &q = a2[shared_a[1]];
+        return CGAL::orientation(p, q, a2[ra]) == CGAL::orientation(p, q, b2[sb]);
+      }
+      const K::Triangle_2 ta(a2[0], a2[1], a2[2]), tb(b2[0], b2[1], b2[2]);
+      if (shared == 1) {
+        const int ia = shared_a[0], ib = shared_b[0];
+        return CGAL::do_intersect(K::Segment_2(a2[(ia + 1) % 3], a2[(ia + 2) % 3]), tb) ||
+               CGAL::do_intersect(K::Segment_2(b2[(ib + 1) % 3], b2[(ib + 2) % 3]), ta);
+      }
+      return CGAL::do_intersect(ta, tb);
+    }
+  }
+
+  if (shared == 2) {
+    const int ra = 3 - shared_a[0] - shared_a[1], sb = 3 - shared_b[0] - shared_b[1];
+    const P3 &p = A(shared_a[0]), &q = A(shared_a[1]), &r = A(ra), &s = B(sb);
+    return CGAL::coplanar(p, q, r, s) && CGAL::coplanar_orientation(p, q, r, s) == CGAL::POSITIVE;
+  }
+  if (shared == 1) {
+    const int ia = shared_a[0], ib = shared_b[0];
+    const K::Segment_3 opposite_a(A((ia + 1) % 3), A((ia + 2) % 3));
+    const K::Segment_3 opposite_b(B((ib + 1) % 3), B((ib + 2) % 3));
+    return CGAL::do_intersect(opposite_a, K::Triangle_3(B(0), B(1), B(2))) ||
+           CGAL::do_intersect(opposite_b, K::Triangle_3(A(0), A(1), A(2)));
+  }
+  return CGAL::do_intersect(K::Triangle_3(A(0), A(1), A(2)), K::Triangle_3(B(0), B(1), B(2)));
+}
+
+}  // namespace
+
+MeshHealth check_mesh(const TriangleMesh& mesh) {
+  MeshHealth health;
+  const int nv = static_cast<int>(mesh.vertices.size());
+  const int nt = static_cast<int>(mesh.triangles.size());
+
+  // Weld vertices at identical positions, so that adjacency is geometric: a mesh whose faces
+  // carry their own copies of shared corners (common in OBJ exports) is still closed.
+  std::vector<int> weld(nv, -1);
+  {
+    std::vector<int> order;
+    for (int i = 0; i < nv; ++i)
+      if (is_finite(mesh.vertices[i])) order.push_back(i);
+    auto key = [&](int i) {
+      const Point3& p = mesh.vertices[i];
+      return std::make_tuple(p.x, p.y, p.z);
+    };
+    std::stable_sort(order.begin(), order.end(), [&](int i, int j) { return key(i) < key(j); });
+    for (std::size_t k = 0; k < order.size(); ++k)
+      weld[order[k]] = (k > 0 && key(order[k]) == key(order[k - 1])) ? weld[order[k - 1]] : order[k];
+  }
+  std::vector<P3> pts(nv);
+  for (int i = 0; i < nv; ++i) pts[i] = is_finite(mesh.vertices[i]) ? to_cgal(mesh.vertices[i]) : P3();
+
+  // Degenerate: index out of range, non-finite vertex, repeated vertex or exactly collinear.
+  std::vector<std::array<int, 3>> tri(nt);
+  std::vector<char> degenerate(nt, 0), usable_edges(nt, 0);
+  for (int t = 0; t < nt; ++t) {
+    const auto& idx = mesh.triangles[t];
+    bool valid = true;
+    for (int k = 0; k < 3; ++k) {
+      valid = valid && idx[k] >= 0 && idx[k] < nv && weld[idx[k]] >= 0;
+      tri[t][k] = valid ? weld[idx[k]] : -1;
+    }
+    const bool distinct = valid && tri[t][0] != tri[t][1] && tri[t][1] != tri[t][2] &&
+                          tri[t][2] != tri[t][0];
+    usable_edges[t] = distinct;  // a zero-area triangle with 3 distinct corners still has edges
+    degenerate[t] = !distinct || CGAL::collinear(pts[tri[t][0]], pts[tri[t][1]], pts[tri[t][2]]);
+    if (degenerate[t]) health.degenerate_triangles.push_back(t);
+  }
+
+  // Edge topology: every undirected edge with the directions in which its triangles traverse it.
+  struct EdgeUse {
+    int lo, hi;
+    bool forward;  // traversed lo -> hi
+    bool operator<(const EdgeUse& o) const { return std::tie(lo, hi) < std::tie(o.lo, o.hi); }
+  };
+  std::vector<EdgeUse> uses;
+  uses.reserve(3 * static_cast<std::size_t>(nt));
+  for (int t = 0; t < nt; ++t) {
+    if (!usable_edges[t]) continue;
+    for (int k = 0; k < 3; ++k) {
+      const int a = tri[t][k], b = tri[t][(k + 1) % 3];
+      uses.push_back({std::min(a, b), std::max(a, b), a < b});
+    }
+  }
+  std::sort(uses.begin(), uses.end());
+  for (std::size_t i = 0, j = 0; i < uses.size(); i = j) {
+    int forward = 0;
+    for (j = i; j < uses.size() && uses[j].lo == uses[i].lo && uses[j].hi == uses[i].hi; ++j)
+      forward += uses[j].forward;
+    const std::size_t count = j - i;
+    if (count == 1) ++health.boundary_edges;
+    if (count > 2) health.manifold = false;
+    if (count == 2 && forward != 1) health.consistently_oriented = false;
+  }
+
+  // Self-intersections: bounding-box broad phase, exact narrow phase; degenerate triangles are
+  // skipped (they are reported above, and the predicates need proper triangles).
+  using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, int>;
+  std::vector<Box> boxes;
+  for (int t = 0; t < nt; ++t) {
+    if (degenerate[t]) continue;
+    const auto& v = tri[t];
+    boxes.emplace_back(pts[v[0]].bbox() + pts[v[1]].bbox() + pts[v[2]].bbox(), t);
+  }
+  std::vector<std::pair<int, int>> hits;
+  CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), [&](const Box& a, const Box& b) {
+    const int s = a.info(), t = b.info();
+    if (triangles_intersect(tri[s], tri[t], pts)) hits.emplace_back(std::min(s, t), std::max(s, t));
+  });
+  std::sort(hits.begin(), hits.end());
+  health.self_intersections = std::move(hits);
+  return health;
+}
+
+}  // namespace lambert

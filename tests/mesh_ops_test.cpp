@@ -1,0 +1,536 @@
+// Tests of mesh/mesh_ops.h: polygon triangulation and mesh checks (CGAL), file reading and
+// subdivision (OpenMesh). Expected areas come from closed forms (shoelace, box and tetrahedron
+// surface areas) written next to each number.
+#include "mesh/mesh_ops.h"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <numbers>
+#include <set>
+
+namespace lambert {
+namespace {
+
+const std::string kData = std::string(LAMBERT_SOURCE_DIR) + "/tests/data/";
+
+double total_area(const TriangleMesh& m) {
+  double a = 0;
+  for (std::size_t t = 0; t < m.triangles.size(); ++t) a += m.triangle(t).area();
+  return a;
+}
+
+// Shoelace formula for a polygon in the xy-plane (positive when counter-clockwise).
+double shoelace(const std::vector<Point3>& p) {
+  double a = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const Point3 &u = p[i], &v = p[(i + 1) % p.size()];
+    a += u.x * v.y - v.x * u.y;
+  }
+  return 0.5 * a;
+}
+
+bool contains(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
+
+// ---- triangulate_polygon ------------------------------------------------------------------
+
+// Checks a triangulation of a polygon: n - 2 triangles, areas summing to `area`, every
+// triangle facing along `normal`, every vertex an original one (bitwise).
+void expect_triangulation(const std::vector<Point3>& polygon, const PolygonTriangulation& r,
+                          double area, const Vector3& normal) {
+  ASSERT_TRUE(r.ok()) << r.error;
+  EXPECT_EQ(r.mesh.triangles.size(), polygon.size() - 2);  // Euler: simple n-gon, no Steiner points
+  ASSERT_EQ(r.mesh.vertices.size(), polygon.size());
+  for (std::size_t i = 0; i < polygon.size(); ++i) EXPECT_EQ(r.mesh.vertices[i], polygon[i]);
+  EXPECT_NEAR(total_area(r.mesh), area, 1e-12 * std::max(1.0, area));
+  for (std::size_t t = 0; t < r.mesh.triangles.size(); ++t) {
+    EXPECT_GT(r.mesh.triangle(t).area(), 0) << "triangle " << t;
+    EXPECT_GT(dot(r.mesh.triangle(t).normal(), normal), 0.999) << "triangle " << t;
+  }
+}
+
+TEST(TriangulatePolygon, UnitSquareCounterClockwiseFacesPlusZ) {
+  const std::vector<Point3> square{{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  expect_triangulation(square, triangulate_polygon(square), 1.0, {0, 0, 1});
+}
+
+TEST(TriangulatePolygon, ClockwiseSquareFacesMinusZ) {
+  // The vertex order defines the front: clockwise seen from +z means the normal is -z.
+  const std::vector<Point3> square{{0, 0, 0}, {0, 1, 0}, {1, 1, 0}, {1, 0, 0}};
+  expect_triangulation(square, triangulate_polygon(square), 1.0, {0, 0, -1});
+}
+
+TEST(TriangulatePolygon, TiltedConcaveLShape) {
+  // L = [0,2]x[0,1] + [0,1]x[1,2], area 3 (shoelace), placed in a tilted plane spanned by the
+  // orthonormal u, v; the notch [1,2]x[1,2] must stay uncovered.
+  const std::vector<std::pair<double, double>> l2{{0, 0}, {2, 0}, {2, 1}, {1, 1}, {1, 2}, {0, 2}};
+  const Vector3 u = normalize(Vector3{1, 1, 0}), v = normalize(Vector3{-1, 1, 1});
+  const Vector3 n = cross(u, v);
+  const Point3 origin{0.3, -1.2, 2.5};
+  std::vector<Point3> l3;
+  for (auto [a, b] : l2) l3.push_back(origin + u * a + v * b);
+  const PolygonTriangulation r = triangulate_polygon(l3);
+  expect_triangulation(l3, r, 3.0, n);
+  for (std::size_t t = 0; t < r.mesh.triangles.size(); ++t) {
+    const Vector3 c = r.mesh.triangle(t).centroid() - origin;
+    const double a = dot(c, u), b = dot(c, v);
+    EXPECT_FALSE(a > 1 && b > 1) << "triangle " << t << " covers the notch";
+  }
+}
+
+TEST(TriangulatePolygon, FivePointedStar) {
+  // Alternating radii R = 2, r = 1 at 36 degree steps: 10 triangles (centre, i, i+1) of area
+  // R r sin(36 deg) / 2 each, total 5 R r sin(pi/5) = 5.877852522924732.
+  std::vector<Point3> star;
+  for (int i = 0; i < 10; ++i) {
+    const double radius = i % 2 == 0 ? 2.0 : 1.0, angle = i * std::numbers::pi / 5;
+    star.push_back({radius * std::cos(angle), radius * std::sin(angle), 1.5});
+  }
+  const double expected = 5 * 2.0 * 1.0 * std::sin(std::numbers::pi / 5);
+  EXPECT_NEAR(shoelace(star), expected, 1e-12);
+  expect_triangulation(star, triangulate_polygon(star), expected, {0, 0, 1});
+}
+
+TEST(TriangulatePolygon, CollinearMiddleVerticesAreKept) {
+  // A unit square with extra vertices in the middle of two edges: still area 1, and no
+  // zero-area triangle may be produced along the straight edges.
+  const std::vector<Point3> p{{0, 0, 0}, {0.5, 0, 0}, {1, 0, 0}, {1, 0.5, 0}, {1, 1, 0}, {0, 1, 0}};
+  EXPECT_DOUBLE_EQ(shoelace(p), 1.0);
+  expect_triangulation(p, triangulate_polygon(p), 1.0, {0, 0, 1});
+}
+
+TEST(TriangulatePolygon, NonPlanarNamesTheVertex) {
+  // A planar hexagon with vertex 3 lifted by 0.1 m: far beyond 1e-6 of the 2 m diameter.
+  std::vector<Point3> p;
+  for (int i = 0; i < 6; ++i) p.push_back({std::cos(i * std::numbers::pi / 3), std::sin(i * std::numbers::pi / 3), 0});
+  p[3].z = 0.1;
+  const PolygonTriangulation r = triangulate_polygon(p);
+  EXPECT_TRUE(contains(r.error, "non-planar: vertex 3 is")) << r.error;
+  // A looser tolerance (0.1 of the diameter) accepts it.
+  EXPECT_TRUE(triangulate_polygon(p, 0.1).ok());
+}
+
+TEST(TriangulatePolygon, SymmetricBowTieIsSelfIntersecting) {
+  // Zero signed area, but not collinear: edges 0-1 and 2-3 cross at (0.5, 0.5).
+  const std::vector<Point3> p{{0, 0, 0}, {1, 1, 0}, {1, 0, 0}, {0, 1, 0}};
+  const PolygonTriangulation r = triangulate_polygon(p);
+  EXPECT_TRUE(contains(r.error, "self-intersecting: edge 0-1 meets edge 2-3")) << r.error;
+}
+
+TEST(TriangulatePolygon, AsymmetricBowTieIsSelfIntersecting) {
+  const std::vector<Point3> p{{0, 0, 0}, {2, 2, 0}, {2, 0, 0}, {0, 1, 0}};
+  const PolygonTriangulation r = triangulate_polygon(p);
+  EXPECT_TRUE(contains(r.error, "self-intersecting: edge 0-1 meets edge 2-3")) << r.error;
+}
+
+TEST(TriangulatePolygon, VertexOnAnotherEdgeIsSelfIntersecting) {
+  // Vertex 4 = (1, 0) touches edge 0-1 = (0,0)-(2,0): not simple.
+  const std::vector<Point3> p{{0, 0, 0}, {2, 0, 0}, {2, 2, 0}, {1, 2, 0}, {1, 0, 0}, {0, 2, 0}};
+  const PolygonTriangulation r = triangulate_polygon(p);
+  EXPECT_TRUE(contains(r.error, "self-intersecting")) << r.error;
+}
+
+TEST(TriangulatePolygon, RepeatedVertices) {
+  const std::vector<Point3> p{{0, 0, 0}, {1, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  EXPECT_EQ(triangulate_polygon(p).error, "vertex 2 repeats vertex 1");
+  const std::vector<Point3> closed{{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 0, 0}};
+  const std::string e = triangulate_polygon(closed).error;
+  EXPECT_TRUE(contains(e, "vertex 3 repeats vertex 0") && contains(e, "last vertex equals the first")) << e;
+}
+
+TEST(TriangulatePolygon, TooFewVerticesAndCollinear) {
+  EXPECT_TRUE(contains(triangulate_polygon({{0, 0, 0}, {1, 0, 0}}).error, "at least 3 vertices"));
+  EXPECT_TRUE(contains(triangulate_polygon({}).error, "at least 3 vertices"));
+  const PolygonTriangulation r = triangulate_polygon({{0, 0, 0}, {1, 1, 1}, {3, 3, 3}, {2, 2, 2}});
+  EXPECT_TRUE(contains(r.error, "collinear")) << r.error;
+  const PolygonTriangulation nan = triangulate_polygon({{0, 0, 0}, {1, std::nan(""), 0}, {0, 1, 0}});
+  EXPECT_EQ(nan.error, "vertex 1 has a non-finite coordinate");
+}
+
+// ---- check_mesh ---------------------------------------------------------------------------
+
+// Unit cube [0,1]^3, 12 triangles counter-clockwise seen from outside.
+TriangleMesh unit_cube() {
+  TriangleMesh m;
+  m.vertices = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+  const int quads[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4}, {3, 7, 6, 2}, {0, 4, 7, 3}, {1, 2, 6, 5}};
+  for (const auto& q : quads) {
+    m.triangles.push_back({q[0], q[1], q[2]});
+    m.triangles.push_back({q[0], q[2], q[3]});
+  }
+  return m;
+}
+
+TEST(CheckMesh, ClosedCubeIsHealthy) {
+  const TriangleMesh cube = unit_cube();
+  // Outward normals: the divergence theorem gives volume = sum(centroid . area vector) / 3 = 1.
+  double volume = 0;
+  for (std::size_t t = 0; t < cube.triangles.size(); ++t)
+    volume += dot(to_vector(cube.triangle(t).centroid()), cube.triangle(t).area_vector()) / 3;
+  ASSERT_NEAR(volume, 1.0, 1e-15);
+  const MeshHealth h = check_mesh(cube);
+  EXPECT_TRUE(h.degenerate_triangles.empty());
+  EXPECT_TRUE(h.self_intersections.empty());  // neighbours touch only along shared edges/corners
+  EXPECT_TRUE(h.consistently_oriented);
+  EXPECT_TRUE(h.manifold);
+  EXPECT_EQ(h.boundary_edges, 0);
+}
+
+TEST(CheckMesh, CubeWithUnsharedCornersIsStillClosed) {
+  // Each triangle with its own copies of its corners (as in many OBJ exports): positions are
+  // welded, so the cube is still closed and consistent.
+  const TriangleMesh cube = unit_cube();
+  TriangleMesh soup;
+  for (std::size_t t = 0; t < cube.triangles.size(); ++t) {
+    const int base = static_cast<int>(soup.vertices.size());
+    for (int k = 0; k < 3; ++k) soup.vertices.push_back(cube.vertices[cube.triangles[t][k]]);
+    soup.triangles.push_back({base, base + 1, base + 2});
+  }
+  const MeshHealth h = check_mesh(soup);
+  EXPECT_TRUE(h.self_intersections.empty());
+  EXPECT_TRUE(h.consistently_oriented);
+  EXPECT_EQ(h.boundary_edges, 0);
+}
+
+TEST(CheckMesh, FlippedFaceIsInconsistent) {
+  TriangleMesh cube = unit_cube();
+  std::swap(cube.triangles[5][1], cube.triangles[5][2]);
+  const MeshHealth h = check_mesh(cube);
+  EXPECT_FALSE(h.consistently_oriented);
+  EXPECT_TRUE(h.manifold);
+  EXPECT_EQ(h.boundary_edges, 0);
+  EXPECT_TRUE(h.self_intersections.empty());
+}
+
+TEST(CheckMesh, CrossingTrianglesIntersect) {
+  // Triangle 0 in z = 0, triangle 1 in x = 0.5 piercing it; triangle 2 far away.
+  TriangleMesh m;
+  m.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0},  {0.5, 0.1, -1}, {0.5, 0.1, 1},
+                {0.5, 0.5, 0}, {5, 5, 5}, {6, 5, 5}, {5, 6, 5}};
+  m.triangles = {{0, 1, 2}, {3, 4, 5}, {6, 7, 8}};
+  const MeshHealth h = check_mesh(m);
+  ASSERT_EQ(h.self_intersections.size(), 1u);
+  EXPECT_EQ(h.self_intersections[0], std::make_pair(0, 1));
+  EXPECT_EQ(h.boundary_edges, 9);
+}
+
+TEST(CheckMesh, TrianglesSharingAVertexOrEdgeOnlyTouch) {
+  // Fan around vertex 0 in the plane (edge neighbours), plus a triangle touching only vertex 0
+  // from above: none of these pairs intersects beyond what they share.
+  TriangleMesh m;
+  m.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {-1, 0, 0}, {0, 0, 1}, {1, 1, 1}};
+  m.triangles = {{0, 1, 2}, {0, 2, 3}, {0, 4, 5}};
+  EXPECT_TRUE(check_mesh(m).self_intersections.empty());
+  // Folding triangle 1 onto triangle 0 (same side of the shared edge 0-2) makes them overlap.
+  m.vertices[3] = {0.5, 0.2, 0};
+  const MeshHealth h = check_mesh(m);
+  ASSERT_EQ(h.self_intersections.size(), 1u);
+  EXPECT_EQ(h.self_intersections[0], std::make_pair(0, 1));
+  // A triangle sharing vertex 0 that dips through triangle 0 intersects it.
+  m.vertices[3] = {-1, 0, 0};
+  m.vertices[4] = {0.3, 0.3, -1};
+  m.vertices[5] = {0.3, 0.3, 1};
+  EXPECT_EQ(check_mesh(m).self_intersections, (std::vector<std::pair<int, int>>{{0, 2}}));
+}
+
+TEST(CheckMesh, CoplanarOverlaps) {
+  // Triangle 0 = unit right triangle in z = 0. Triangle 1 shares vertex 0 and lies in the same
+  // plane, overlapping it; triangle 2 shares nothing and overlaps triangle 0 too; triangle 3 is
+  // coplanar but separate; triangle 4 is coplanar and touches triangle 0 only at vertex 0.
+  TriangleMesh m;
+  m.vertices = {{0, 0, 0},  {1, 0, 0},     {0, 1, 0},  {1, 0.2, 0}, {0.2, 1, 0}, {0.1, 0.1, 0},
+                {0.9, 0.05, 0}, {0.05, 0.9, 0}, {2, 2, 0}, {3, 2, 0}, {2, 3, 0}, {-1, 0, 0}, {0, -1, 0}};
+  m.triangles = {{0, 1, 2}, {0, 3, 4}, {5, 6, 7}, {8, 9, 10}, {0, 12, 11}};
+  // Pairs: 0-1 (overlap), 0-2 (2 inside 0), 1-2 (both near the origin).
+  EXPECT_EQ(check_mesh(m).self_intersections,
+            (std::vector<std::pair<int, int>>{{0, 1}, {0, 2}, {1, 2}}));
+}
+
+TEST(CheckMesh, DegenerateTrianglesAreReportedWithoutCrashing) {
+  TriangleMesh m = unit_cube();
+  m.vertices.push_back({0.5, 0, 0});                  // on the edge 0-1
+  m.triangles.push_back({0, 1, 8});                   // 12: collinear corners (zero area)
+  m.triangles.push_back({2, 2, 3});                   // 13: repeated index
+  m.triangles.push_back({0, 1, 99});                  // 14: index out of range
+  const MeshHealth h = check_mesh(m);
+  EXPECT_EQ(h.degenerate_triangles, (std::vector<int>{12, 13, 14}));
+  EXPECT_TRUE(h.self_intersections.empty());
+}
+
+TEST(CheckMesh, FinIsNonManifold) {
+  // Three triangles on the edge 0-1, meeting only along it.
+  TriangleMesh m;
+  m.vertices = {{0, 0, 0}, {1, 0, 0}, {0.5, 1, 0}, {0.5, -1, 0}, {0.5, 0, 1}};
+  m.triangles = {{0, 1, 2}, {1, 0, 3}, {0, 1, 4}};
+  const MeshHealth h = check_mesh(m);
+  EXPECT_FALSE(h.manifold);
+  EXPECT_TRUE(h.self_intersections.empty());
+  EXPECT_EQ(h.boundary_edges, 6);  // the two free edges of each triangle
+}
+
+// ---- read_mesh_file -----------------------------------------------------------------------
+
+void expect_bounds(const TriangleMesh& m, const Point3& lo, const Point3& hi) {
+  Bounds3 b;
+  for (const Point3& p : m.vertices) b.add(p);
+  EXPECT_EQ(b.lo, lo);
+  EXPECT_EQ(b.hi, hi);
+}
+
+// Volume by the divergence theorem: positive when all faces face outwards.
+double signed_volume(const TriangleMesh& m) {
+  double v = 0;
+  for (std::size_t t = 0; t < m.triangles.size(); ++t)
+    v += dot(to_vector(m.triangle(t).centroid()), m.triangle(t).area_vector()) / 3;
+  return v;
+}
+
+void expect_box(const MeshFileResult& r) {
+  ASSERT_TRUE(r.ok()) << r.error;
+  EXPECT_EQ(r.mesh.vertices.size(), 8u);
+  EXPECT_EQ(r.mesh.triangles.size(), 12u);           // 6 quads, 2 triangles each
+  EXPECT_NEAR(total_area(r.mesh), 52.0, 1e-12);      // 2 (2*3 + 2*4 + 3*4)
+  EXPECT_NEAR(signed_volume(r.mesh), 24.0, 1e-12);   // 2*3*4, outward orientation kept
+  expect_bounds(r.mesh, {0, 0, 0}, {2, 3, 4});
+  const MeshHealth h = check_mesh(r.mesh);
+  EXPECT_EQ(h.boundary_edges, 0);
+  EXPECT_TRUE(h.consistently_oriented);
+}
+
+void expect_tetra(const MeshFileResult& r) {
+  ASSERT_TRUE(r.ok()) << r.error;
+  EXPECT_EQ(r.mesh.vertices.size(), 4u);
+  EXPECT_EQ(r.mesh.triangles.size(), 4u);
+  EXPECT_NEAR(total_area(r.mesh), 1.5 + std::sqrt(3.0) / 2, 1e-12);  // three right triangles + one equilateral of side sqrt 2
+  EXPECT_NEAR(signed_volume(r.mesh), 1.0 / 6, 1e-15);
+  expect_bounds(r.mesh, {0, 0, 0}, {1, 1, 1});
+}
+
+TEST(ReadMeshFile, ObjQuadsWithTextureCoordinates) { expect_box(read_mesh_file(kData + "box.obj")); }
+TEST(ReadMeshFile, AsciiPly) { expect_box(read_mesh_file(kData + "box.ply")); }
+TEST(ReadMeshFile, Off) { expect_tetra(read_mesh_file(kData + "tetra.off")); }
+TEST(ReadMeshFile, OffWithCountsOnTheHeaderLine) {
+  // OpenMesh alone reads this as an empty mesh; the reader normalizes the header first.
+  const auto path = std::filesystem::temp_directory_path() / "lambert_mesh_ops_test_tetra.off";
+  std::ofstream(path) << "OFF 4 4 6 # counts\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n\n"
+                         "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3 # last face\n";
+  expect_tetra(read_mesh_file(path.string()));
+  std::filesystem::remove(path);
+}
+TEST(ReadMeshFile, AsciiStl) { expect_tetra(read_mesh_file(kData + "tetra.stl")); }
+
+TEST(ReadMeshFile, BinaryStl) {
+  // The ascii tetrahedron written as binary STL: 80-byte header, facet count, 50 bytes a facet.
+  const float facets[4][9] = {{0, 0, 0, 0, 1, 0, 1, 0, 0},
+                              {0, 0, 0, 1, 0, 0, 0, 0, 1},
+                              {0, 0, 0, 0, 0, 1, 0, 1, 0},
+                              {1, 0, 0, 0, 1, 0, 0, 0, 1}};
+  const auto path = std::filesystem::temp_directory_path() / "lambert_mesh_ops_test_tetra.stl";
+  {
+    std::ofstream out(path, std::ios::binary);
+    const char header[80] = "binary tetra";
+    out.write(header, 80);
+    const std::uint32_t n = 4;
+    out.write(reinterpret_cast<const char*>(&n), 4);
+    for (const auto& f : facets) {
+      const float normal[3] = {0, 0, 0};
+      const std::uint16_t attribute = 0;
+      out.write(reinterpret_cast<const char*>(normal), 12);
+      out.write(reinterpret_cast<const char*>(f), 36);
+      out.write(reinterpret_cast<const char*>(&attribute), 2);
+    }
+  }
+  expect_tetra(read_mesh_file(path.string()));
+  std::filesystem::remove(path);
+}
+
+TEST(ReadMeshFile, ConcaveFaceIsTriangulatedInsideIt) {
+  const MeshFileResult r = read_mesh_file(kData + "l_shape.obj");
+  ASSERT_TRUE(r.ok()) << r.error;
+  EXPECT_EQ(r.mesh.triangles.size(), 4u);
+  EXPECT_NEAR(total_area(r.mesh), 3.0, 1e-12);  // shoelace area of the L
+  for (std::size_t t = 0; t < r.mesh.triangles.size(); ++t) {
+    EXPECT_GT(r.mesh.triangle(t).area_vector().z, 0) << "triangle " << t;
+    const Point3 c = r.mesh.triangle(t).centroid();
+    EXPECT_FALSE(c.x > 1 && c.y > 1) << "triangle " << t << " covers the notch";
+  }
+}
+
+TEST(ReadMeshFile, MissingFileAndBadExtension) {
+  const MeshFileResult r = read_mesh_file(kData + "no_such_file.obj");
+  EXPECT_TRUE(contains(r.error, "does not exist")) << r.error;
+  const MeshFileResult e = read_mesh_file(kData + "../mesh_ops_test.cpp");
+  EXPECT_TRUE(contains(e.error, "unsupported extension '.cpp'")) << e.error;
+}
+
+TEST(ReadMeshFile, RefusesFileWithoutFaces) {
+  const auto path = std::filesystem::temp_directory_path() / "lambert_mesh_ops_test_points.obj";
+  std::ofstream(path) << "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+  const MeshFileResult r = read_mesh_file(path.string());
+  EXPECT_TRUE(contains(r.error, "no faces")) << r.error;
+  std::filesystem::remove(path);
+}
+
+TEST(ReadMeshFile, RefusesFaceDroppedByOpenMesh) {
+  // repeated_vertex.obj has 3 faces; OpenMesh drops "f 2 3 3" and would return 2.
+  const MeshFileResult r = read_mesh_file(kData + "repeated_vertex.obj");
+  EXPECT_TRUE(contains(r.error, "OpenMesh loaded 2 of the 3 faces")) << r.error;
+}
+
+TEST(ReadMeshFile, RefusesNonManifoldFinDetachedByOpenMesh) {
+  // fin.obj: 5 vertices; OpenMesh re-adds the third face on the edge with 3 new vertices.
+  const MeshFileResult r = read_mesh_file(kData + "fin.obj");
+  EXPECT_TRUE(contains(r.error, "turned the 5 vertices of the file into 8")) << r.error;
+  EXPECT_TRUE(contains(r.error, "non-manifold")) << r.error;
+}
+
+// ---- subdivide_to_max_area ----------------------------------------------------------------
+
+TriangleMesh unit_square() {
+  TriangleMesh m;
+  m.vertices = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  m.triangles = {{0, 1, 2}, {0, 2, 3}};
+  return m;
+}
+
+// Undirected edge -> number of triangles using it.
+std::map<std::pair<int, int>, int> edge_uses(const TriangleMesh& m) {
+  std::map<std::pair<int, int>, int> uses;
+  for (const auto& t : m.triangles)
+    for (int k = 0; k < 3; ++k) ++uses[{std::min(t[k], t[(k + 1) % 3]), std::max(t[k], t[(k + 1) % 3])}];
+  return uses;
+}
+
+double min_angle(const Triangle& t) {
+  double smallest = std::numbers::pi;
+  for (int k = 0; k < 3; ++k) {
+    const Vector3 a = t.v[(k + 1) % 3] - t.v[k], b = t.v[(k + 2) % 3] - t.v[k];
+    smallest = std::min(smallest, std::acos(dot(a, b) / (length(a) * length(b))));
+  }
+  return smallest;
+}
+
+TEST(Subdivide, UnitSquareIsConformingAndKeepsArea) {
+  const double max_area = 0.01;
+  const SubdividedMesh s = subdivide_to_max_area_with_parents(unit_square(), max_area);
+  const TriangleMesh& m = s.mesh;
+  // Halving from 1/2 gives areas 1/2^k; the first <= 0.01 is 1/128, so exactly 128 triangles.
+  EXPECT_EQ(m.triangles.size(), 128u);
+  for (std::size_t t = 0; t < m.triangles.size(); ++t) {
+    EXPECT_LE(m.triangle(t).area(), max_area);
+    EXPECT_GT(m.triangle(t).area_vector().z, 0) << "orientation of triangle " << t;
+  }
+  EXPECT_NEAR(total_area(m), 1.0, 1e-12);
+  // Conforming: an edge used once lies on the square's boundary; interior edges are used twice.
+  for (const auto& [e, n] : edge_uses(m)) {
+    const Point3 a = m.vertices[e.first], b = m.vertices[e.second];
+    const bool on_boundary = (a.x == b.x && (a.x == 0 || a.x == 1)) || (a.y == b.y && (a.y == 0 || a.y == 1));
+    EXPECT_EQ(n, on_boundary ? 1 : 2) << "edge " << e.first << "-" << e.second;
+  }
+  // Input vertices keep their indices; children are grouped by parent in input order.
+  for (int i = 0; i < 4; ++i) EXPECT_EQ(m.vertices[i], unit_square().vertices[i]);
+  ASSERT_EQ(s.parent.size(), m.triangles.size());
+  EXPECT_TRUE(std::is_sorted(s.parent.begin(), s.parent.end()));
+  EXPECT_EQ(std::count(s.parent.begin(), s.parent.end(), 0), 64);
+  // Each child lies in its parent: the parent triangle {0,1,2} is the half y <= x.
+  for (std::size_t t = 0; t < m.triangles.size(); ++t) {
+    const Point3 c = m.triangle(t).centroid();
+    EXPECT_EQ(s.parent[t], c.y < c.x ? 0 : 1) << "triangle " << t;
+  }
+}
+
+TEST(Subdivide, SliverKeepsRivaraAngleBound) {
+  // 100:1 right triangle, smallest angle atan(1/100). Longest-edge bisection keeps every angle
+  // >= half the smallest initial angle (Rivara 1984).
+  TriangleMesh m;
+  m.vertices = {{0, 0, 0}, {100, 0, 0}, {0, 1, 0}};
+  m.triangles = {{0, 1, 2}};
+  const double alpha0 = min_angle(m.triangle(0));
+  ASSERT_NEAR(alpha0, std::atan(0.01), 1e-13);
+  const TriangleMesh s = subdivide_to_max_area(m, 0.5);  // area 50 -> at least 100 patches
+  EXPECT_GE(s.triangles.size(), 100u);
+  EXPECT_NEAR(total_area(s), 50.0, 1e-10);
+  for (std::size_t t = 0; t < s.triangles.size(); ++t) {
+    EXPECT_LE(s.triangle(t).area(), 0.5);
+    EXPECT_GE(min_angle(s.triangle(t)), alpha0 / 2 - 1e-12);
+    EXPECT_GT(s.triangle(t).area_vector().z, 0);
+  }
+}
+
+TEST(Subdivide, OrientationFollowsEachParent) {
+  // A closed cube: every child must face outwards like its parent (normal agrees).
+  const TriangleMesh cube = unit_cube();
+  const SubdividedMesh s = subdivide_to_max_area_with_parents(cube, 0.02);
+  EXPECT_NEAR(total_area(s.mesh), 6.0, 1e-12);
+  EXPECT_NEAR(signed_volume(s.mesh), 1.0, 1e-12);
+  for (std::size_t t = 0; t < s.mesh.triangles.size(); ++t) {
+    EXPECT_GT(dot(s.mesh.triangle(t).normal(), cube.triangle(s.parent[t]).normal()), 0.999999);
+    EXPECT_LE(s.mesh.triangle(t).area(), 0.02);
+  }
+  const MeshHealth h = check_mesh(s.mesh);
+  EXPECT_EQ(h.boundary_edges, 0);  // conforming across the cube's edges too
+  EXPECT_TRUE(h.consistently_oriented);
+}
+
+TEST(Subdivide, SoupWithFlippedFaceAndFinLosesNothing) {
+  // A cube with one flipped triangle, plus a fin on the edge 0-1: OpenMesh cannot add all of
+  // them to one surface; those are bisected alone. Nothing may be lost or flipped.
+  TriangleMesh m = unit_cube();
+  std::swap(m.triangles[3][1], m.triangles[3][2]);
+  m.vertices.push_back({0.5, -1, -1});
+  m.triangles.push_back({0, 1, 8});
+  m.triangles.push_back({1, 1, 2});  // degenerate: passed through unchanged
+  const double max_area = 0.05;
+  const SubdividedMesh s = subdivide_to_max_area_with_parents(m, max_area);
+  ASSERT_EQ(s.parent.size(), s.mesh.triangles.size());
+  std::vector<double> area_by_parent(m.triangles.size(), 0);
+  for (std::size_t t = 0; t < s.mesh.triangles.size(); ++t) {
+    const Triangle child = s.mesh.triangle(t), parent = m.triangle(s.parent[t]);
+    area_by_parent[s.parent[t]] += child.area();
+    EXPECT_LE(child.area(), max_area);
+    if (parent.area() > 0) {
+      EXPECT_GT(dot(child.normal(), parent.normal()), 0.999999);
+    }
+  }
+  for (std::size_t p = 0; p < m.triangles.size(); ++p)
+    EXPECT_NEAR(area_by_parent[p], m.triangle(p).area(), 1e-14) << "parent " << p;
+  EXPECT_EQ(s.mesh.triangles.back(), (std::array<int, 3>{1, 1, 2}));
+}
+
+TEST(Subdivide, GuardsAndNoOp) {
+  const TriangleMesh sq = unit_square();
+  for (double bad : {0.0, -1.0, std::nan(""), HUGE_VAL}) {
+    const TriangleMesh r = subdivide_to_max_area(sq, bad);
+    EXPECT_EQ(r.triangles, sq.triangles) << bad;
+    EXPECT_EQ(r.vertices, sq.vertices) << bad;
+  }
+  // Already small enough: unchanged, triangle by triangle.
+  EXPECT_EQ(subdivide_to_max_area(sq, 0.5).triangles, sq.triangles);
+}
+
+TEST(Subdivide, HundredThousandPatchesFastAndDeterministic) {
+  const auto start = std::chrono::steady_clock::now();
+  const TriangleMesh a = subdivide_to_max_area(unit_square(), 1e-5);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  // Areas halve from 1/2: 1/2^17 <= 1e-5 < 1/2^16, so 2^17 = 131072 triangles.
+  EXPECT_EQ(a.triangles.size(), 131072u);
+  EXPECT_NEAR(total_area(a), 1.0, 1e-12);
+#if defined(NDEBUG) && !defined(__SANITIZE_ADDRESS__)
+  EXPECT_LT(seconds, 1.0);
+#endif
+  std::printf("subdivision into %zu triangles: %.3f s\n", a.triangles.size(), seconds);
+  const TriangleMesh b = subdivide_to_max_area(unit_square(), 1e-5);
+  EXPECT_EQ(a.triangles, b.triangles);
+  EXPECT_EQ(a.vertices, b.vertices);
+}
+
+}  // namespace
+}  // namespace lambert
