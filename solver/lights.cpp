@@ -8,6 +8,7 @@
 
 #include "solver/cubature.h"
 #include "solver/form_factor.h"
+#include "solver/visible_fraction.h"
 
 namespace lambert {
 namespace {
@@ -50,28 +51,6 @@ bool isotropic_inverse_square(const PointLight& l) {
                               (l.exponent == 0 && l.kind != PointLight::Kind::Spot));
 }
 
-// Kernel-weighted visible fraction of a point (light position) seen from a triangle: rays from the
-// stratified samples, weighted by the unshadowed factor at each sample (so that the estimate is of
-// the shadowed flux, not of the shadowed area). Four rays first; twelve more if they disagree.
-template <class Kernel>
-double visible_fraction_to_point(const Triangle& t, const Point3& target, const Visibility& vis,
-                                 Kernel&& kernel) {
-  const auto& samples = triangle_visibility_samples();
-  double seen = 0, total = 0;
-  int visible_count = 0;
-  for (int k = 0; k < 16; ++k) {
-    if (k == 4 && (visible_count == 0 || visible_count == 4)) break;
-    const auto& w = samples[k];
-    const Point3 p = barycentric(t.v[0], t.v[1], t.v[2], w[0], w[1], w[2]);
-    const double weight = kernel(p) + 1e-300;
-    const bool v = vis.visible(p, target);
-    visible_count += v;
-    seen += v ? weight : 0;
-    total += weight;
-  }
-  return seen / total;
-}
-
 }  // namespace
 
 const std::vector<double>& light_spectrum(const Light& light) { return std::visit(SpectrumOf{}, light); }
@@ -87,7 +66,7 @@ double light_point_factor(const Light& light, const Point3& p, const Vector3& n,
   if (g == 0 || std::holds_alternative<AmbientLight>(light)) return g;
   if (const auto* d = std::get_if<DirectionalLight>(&light)) {
     // Shadow ray towards the light, long enough to leave the scene (Embree works re-centred).
-    return vis.visible_towards(p, -d->direction) ? g : 0;
+    return vis.visible(p, p - d->direction * vis.scene_extent()) ? g : 0;
   }
   return vis.visible(p, std::get<PointLight>(light).position) ? g : 0;
 }
@@ -98,15 +77,11 @@ double light_patch_factor(const Light& light, const Triangle& t, const Visibilit
   if (const auto* d = std::get_if<DirectionalLight>(&light)) {
     const double g = std::max(0.0, -dot(n, d->direction));
     if (g == 0) return 0;
-    const auto& samples = triangle_visibility_samples();
-    int seen = 0, traced = 0;
-    for (int k = 0; k < 16; ++k) {
-      if (k == 4 && (seen == 0 || seen == 4)) break;
-      const auto& w = samples[k];
-      seen += vis.visible_towards(barycentric(t.v[0], t.v[1], t.v[2], w[0], w[1], w[2]), -d->direction);
-      ++traced;
-    }
-    return g * seen / traced;
+    // A segment towards the light that surely leaves the scene (the direction is constant).
+    const Vector3 reach = -d->direction * vis.scene_extent();
+    return g * weighted_visible_fraction(
+                   vis, [&](int k) { const Point3 p = visibility_sample(t, k); return std::pair{p, p + reach}; },
+                   [](const Point3&, const Point3&) { return 1.0; });
   }
   const PointLight& l = std::get<PointLight>(light);
   auto kernel = [&](const Point3& p) { return point_unshadowed(l, p, n); };
@@ -120,7 +95,9 @@ double light_patch_factor(const Light& light, const Triangle& t, const Visibilit
     average = integrate_adaptive(t, kernel, coarse, 1e-7 * std::abs(coarse) + 1e-300, 8) / t.area();
   }
   if (average == 0) return 0;
-  return average * visible_fraction_to_point(t, l.position, vis, kernel);
+  return average * weighted_visible_fraction(
+                       vis, [&](int k) { return std::pair{visibility_sample(t, k), l.position}; },
+                       [&](const Point3& p, const Point3&) { return kernel(p); });
 }
 
 double light_flux_factor(const Light& light) {
@@ -133,23 +110,6 @@ double light_flux_factor(const Light& light) {
     return 2 * kPi * (1 - std::pow(std::cos(psi_c), m + 1)) / (m + 1);
   }
   return 2 * kPi / (m + 1);  // ∫ cos^m ψ dω over the front hemisphere
-}
-
-const std::array<std::array<double, 3>, 16>& triangle_visibility_samples() {
-  static const std::array<std::array<double, 3>, 16> samples = [] {
-    const Triangle unit{{Point3{1, 0, 0}, Point3{0, 1, 0}, Point3{0, 0, 1}}};
-    std::array<std::array<double, 3>, 16> out{};
-    const auto level1 = split4(unit);
-    for (int c = 0; c < 4; ++c) {
-      const auto level2 = split4(level1[c]);
-      for (int g = 0; g < 4; ++g) {
-        const Point3 centroid = level2[g].centroid();  // barycentric coordinates of the unit triangle
-        out[g * 4 + c] = {centroid.x, centroid.y, centroid.z};
-      }
-    }
-    return out;
-  }();
-  return samples;
 }
 
 }  // namespace lambert

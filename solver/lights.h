@@ -28,8 +28,4 @@ double light_unshadowed_factor(const Light& light, const Point3& p, const Vector
 // Zero for directional and ambient light, whose flux depends on the scene they fall on.
 double light_flux_factor(const Light& light);
 
-// Stratified sample points on a triangle for visible-fraction estimates: the centroids of the 16
-// triangles of a two-level 1:4 split, ordered so that every prefix of length 4k is spread evenly.
-const std::array<std::array<double, 3>, 16>& triangle_visibility_samples();
-
 }  // namespace lambert

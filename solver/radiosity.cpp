@@ -15,6 +15,7 @@
 #include "solver/form_factor.h"
 #include "solver/lights.h"
 #include "solver/visibility.h"
+#include "solver/visible_fraction.h"
 
 namespace lambert {
 namespace {
@@ -39,96 +40,151 @@ bool any_in_front(const Triangle& a, const Vector3& na, const Triangle& b) {
   return false;
 }
 
-// Visible fraction between two patches: rays between stratified samples of both, each weighted by
-// the differential kernel cos θ_i cos θ_j / r² at its ends, so that the estimate is of the visible
-// share of the form factor rather than of the area. Four rays first, sixteen if they disagree.
-double patch_visible_fraction(const Patch& a, const Patch& b, const Visibility& vis) {
-  const auto& samples = triangle_visibility_samples();
-  double seen = 0, total = 0;
-  int visible_count = 0;
-  for (int k = 0; k < 16; ++k) {
-    if (k == 4 && (visible_count == 0 || visible_count == 4)) break;
-    const auto& wa = samples[k];
-    const auto& wb = samples[(5 * k + 7) % 16];  // a fixed permutation decorrelates the pairs
-    const Point3 p = barycentric(a.triangle.v[0], a.triangle.v[1], a.triangle.v[2], wa[0], wa[1], wa[2]);
-    const Point3 q = barycentric(b.triangle.v[0], b.triangle.v[1], b.triangle.v[2], wb[0], wb[1], wb[2]);
-    const Vector3 d = q - p;
-    const double r2 = length_squared(d);
-    const double weight = std::max(0.0, dot(a.normal, d)) * std::max(0.0, -dot(b.normal, d)) / (r2 * r2) + 1e-300;
-    const bool v = vis.visible(p, q);
-    visible_count += v;
-    seen += v ? weight : 0;
-    total += weight;
-  }
-  return seen / total;
+// The differential form-factor kernel cos θ_p cos θ_q / r² (up to 1/π) between two oriented points;
+// the weight of a visibility ray.
+double link_weight(const Point3& p, const Vector3& np, const Point3& q, const Vector3& nq) {
+  const Vector3 d = q - p;
+  const double r2 = length_squared(d);
+  return std::max(0.0, dot(np, d)) * std::max(0.0, -dot(nq, d)) / (r2 * r2);
 }
 
-// Preconditioned conjugate gradients for (D − G_aa) x = b on the active set (patches with ρ > 0).
-// D = A/ρ, G symmetric with zero diagonal, so the Jacobi preconditioner is D itself. Stops when the
-// relative residual bounds the relative error below `tolerance`: ‖e‖/‖x‖ ≤ κ ‖r‖/‖b‖ with
-// κ ≤ (1 + ρ_max)/(1 − ρ_max) for the Jacobi-scaled system.
-struct CgResult { int iterations; double residual; };
-CgResult conjugate_gradient(const std::vector<double>& G, std::size_t N, const std::vector<int>& active,
-                            const std::vector<double>& D, const std::vector<double>& b,
-                            std::vector<double>& x, double tolerance, int max_iterations, double rho_max) {
+// Visible fraction between two patches; each ray weighted by the differential kernel at its ends.
+double patch_visible_fraction(const Patch& a, const Patch& b, const Visibility& vis) {
+  return weighted_visible_fraction(
+      vis,
+      [&](int k) {
+        // A fixed odd-multiplier permutation pairs samples that are not in corresponding cells.
+        return std::pair{visibility_sample(a.triangle, k),
+                         visibility_sample(b.triangle, (37 * k + 11) % kMaxVisibilitySamples)};
+      },
+      [&](const Point3& p, const Point3& q) { return link_weight(p, a.normal, q, b.normal); });
+}
+
+// Probes patch i's hemisphere with 64 stratified cosine-distributed rays from its sample points.
+// Returns 1 if every ray hits the front of another patch (closed), 2 if one hits the back of a
+// surface (a leak or a wrongly oriented surface), 0 if one escapes the scene (open).
+char hemisphere_is_closed(const std::vector<Patch>& patches, std::size_t i, const Visibility& vis) {
+  const Patch& p = patches[i];
+  const Vector3 n = p.normal;
+  const Vector3 t = normalize(std::abs(n.x) < 0.9 ? cross(n, Vector3{1, 0, 0}) : cross(n, Vector3{0, 1, 0}));
+  const Vector3 s = cross(n, t);
+  const double reach = vis.scene_extent();
+  char result = 1;
+  for (int k = 0; k < 64; ++k) {
+    const double u1 = ((k / 8) + 0.5) / 8, u2 = ((k % 8) + 0.5) / 8;  // stratified on [0,1)²
+    const double r = std::sqrt(u1), phi = 2 * kPi * u2;
+    const Vector3 d = t * (r * std::cos(phi)) + s * (r * std::sin(phi)) + n * std::sqrt(1 - u1);
+    const Point3 from = visibility_sample(p.triangle, (13 * k) % kMaxVisibilitySamples);
+    const int hit = vis.first_hit(from, from + d * reach);
+    if (hit < 0) return 0;
+    if (dot(patches[hit].normal, d) >= 0) result = 2;
+  }
+  return result;
+}
+
+// Restarted GMRES for (I − diag(ρ) F) x = b on the active set (patches with ρ > 0). F is stored
+// row-major N×N with rows that sum to the receiver's closure (1 in a closed scene). The matrix is
+// close to self-adjoint in the area-weighted inner product (reciprocity), so GMRES converges like CG:
+// in O(sqrt(1/(1 − ρ))) iterations even for ρ → 1. It stops when the relative residual bounds the
+// relative error below `tolerance`: ‖e‖/‖x‖ ≤ κ ‖r‖/‖b‖ with κ ≤ (1 + ρ_max)/(1 − ρ_max).
+struct LinearSolveResult { int iterations; double residual; };
+LinearSolveResult gmres(const std::vector<double>& F, std::size_t N, const std::vector<int>& active,
+                        const std::vector<double>& rho, const std::vector<double>& b, std::vector<double>& x,
+                        double tolerance, int max_iterations, double rho_max, const SolveControl& control) {
   const std::size_t n = active.size();
   auto apply = [&](const std::vector<double>& v, std::vector<double>& out) {
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 64), [&](const auto& range) {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 32), [&](const auto& range) {
       for (std::size_t r = range.begin(); r != range.end(); ++r) {
-        const double* row = &G[static_cast<std::size_t>(active[r]) * N];
+        const double* row = &F[static_cast<std::size_t>(active[r]) * N];
         double s = 0;
         for (std::size_t c = 0; c < n; ++c) s += row[active[c]] * v[c];
-        out[r] = D[r] * v[r] - s;
+        out[r] = v[r] - rho[r] * s;
       }
     });
   };
-  const double kappa = rho_max < 1 ? (1 + rho_max) / (1 - rho_max) : 1e300;
-  const double target = tolerance / kappa;
-  std::vector<double> r(n), z(n), p(n), q(n);
-  apply(x, q);
-  double b_norm = 0;
-  for (std::size_t k = 0; k < n; ++k) {
-    r[k] = b[k] - q[k];
-    b_norm += b[k] * b[k];
-  }
-  b_norm = std::sqrt(b_norm);
+  auto norm = [](const std::vector<double>& v) {
+    double s = 0;
+    for (double e : v) s += e * e;
+    return std::sqrt(s);
+  };
+  const double b_norm = norm(b);
   if (b_norm == 0) {
     std::fill(x.begin(), x.end(), 0.0);
     return {0, 0};
   }
-  double rz = 0;
-  for (std::size_t k = 0; k < n; ++k) {
-    z[k] = r[k] / D[k];
-    p[k] = z[k];
-    rz += r[k] * z[k];
-  }
-  int it = 0;
-  double rel = 0;
-  for (; it < max_iterations; ++it) {
-    double r_norm = 0;
-    for (double v : r) r_norm += v * v;
-    rel = std::sqrt(r_norm) / b_norm;
+  const double kappa = rho_max < 1 ? (1 + rho_max) / (1 - rho_max) : 1e300;
+  const double target = tolerance / kappa;
+  constexpr int kRestart = 60;
+  std::vector<std::vector<double>> V(kRestart + 1, std::vector<double>(n));
+  std::vector<std::vector<double>> H(kRestart + 1, std::vector<double>(kRestart, 0.0));
+  std::vector<double> cs(kRestart), sn(kRestart), g(kRestart + 1), w(n);
+  int iterations = 0;
+  double rel = 1;
+  while (iterations < max_iterations) {
+    if (control.cancel && control.cancel->load(std::memory_order_relaxed)) throw SolveCancelled();
+    apply(x, w);
+    for (std::size_t k = 0; k < n; ++k) V[0][k] = b[k] - w[k];
+    const double beta = norm(V[0]);
+    rel = beta / b_norm;
     if (rel <= target) break;
-    apply(p, q);
-    double pq = 0;
-    for (std::size_t k = 0; k < n; ++k) pq += p[k] * q[k];
-    if (!(pq > 0)) throw SolveError("the radiosity system is singular (reflectance 1 in a closed scene?)");
-    const double alpha = rz / pq;
-    double rz_new = 0;
-    for (std::size_t k = 0; k < n; ++k) {
-      x[k] += alpha * p[k];
-      r[k] -= alpha * q[k];
-      z[k] = r[k] / D[k];
-      rz_new += r[k] * z[k];
+    for (double& v : V[0]) v /= beta;
+    std::fill(g.begin(), g.end(), 0.0);
+    g[0] = beta;
+    int m = 0;
+    for (; m < kRestart && iterations < max_iterations; ++m, ++iterations) {
+      apply(V[m], w);
+      for (int i = 0; i <= m; ++i) {  // modified Gram–Schmidt
+        double h = 0;
+        for (std::size_t k = 0; k < n; ++k) h += w[k] * V[i][k];
+        H[i][m] = h;
+        for (std::size_t k = 0; k < n; ++k) w[k] -= h * V[i][k];
+      }
+      const double h_next = norm(w);
+      H[m + 1][m] = h_next;
+      if (h_next > 0)
+        for (std::size_t k = 0; k < n; ++k) V[m + 1][k] = w[k] / h_next;
+      for (int i = 0; i < m; ++i) {  // apply the previous Givens rotations to the new column
+        const double t = cs[i] * H[i][m] + sn[i] * H[i + 1][m];
+        H[i + 1][m] = -sn[i] * H[i][m] + cs[i] * H[i + 1][m];
+        H[i][m] = t;
+      }
+      const double r = std::hypot(H[m][m], H[m + 1][m]);
+      cs[m] = r > 0 ? H[m][m] / r : 1;
+      sn[m] = r > 0 ? H[m + 1][m] / r : 0;
+      H[m][m] = r;
+      H[m + 1][m] = 0;
+      g[m + 1] = -sn[m] * g[m];
+      g[m] = cs[m] * g[m];
+      rel = std::abs(g[m + 1]) / b_norm;
+      if (rel <= target || h_next == 0) {
+        ++m;
+        ++iterations;
+        break;
+      }
     }
-    const double beta = rz_new / rz;
-    rz = rz_new;
-    for (std::size_t k = 0; k < n; ++k) p[k] = z[k] + beta * p[k];
+    // x += V y with H y = g (upper triangular back substitution)
+    std::vector<double> y(m);
+    for (int i = m - 1; i >= 0; --i) {
+      double s = g[i];
+      for (int j = i + 1; j < m; ++j) s -= H[i][j] * y[j];
+      if (H[i][i] == 0) throw SolveError("the radiosity system is singular (reflectance 1 in a closed scene?)");
+      y[i] = s / H[i][i];
+    }
+    for (int i = 0; i < m; ++i)
+      for (std::size_t k = 0; k < n; ++k) x[k] += y[i] * V[i][k];
+    if (rel <= target) {
+      apply(x, w);  // the true residual, not the recurrence's estimate
+      double r2 = 0;
+      for (std::size_t k = 0; k < n; ++k) r2 += (b[k] - w[k]) * (b[k] - w[k]);
+      rel = std::sqrt(r2) / b_norm;
+      if (rel <= target) break;
+    }
   }
-  if (rel > target)
+  if (!(rel <= target))
     throw SolveError("the radiosity solve did not converge in " + std::to_string(max_iterations) +
-                     " iterations (relative residual " + std::to_string(rel) + ")");
-  return {it, rel};
+                     " iterations (relative residual " + std::to_string(rel) +
+                     "; is the reflectance 1 in a closed scene?)");
+  return {iterations, rel};
 }
 
 }  // namespace
@@ -217,15 +273,17 @@ Solution solve(const Scene& scene, const SolveControl& control) {
   check_cancel(control);
   report(0.1);
 
-  // ---- form factors G_ij = A_i F_ij (symmetric), only where radiosity can flow ----
+  // ---- form factors, only where radiosity can flow ----
+  // G_ij = A_i F_ij = G_ji from the exact kernel integrated over the smaller patch of each pair, times
+  // the kernel-weighted visible fraction from rays; computed once per unordered pair.
   t0 = Clock::now();
   const bool need_factors = any_emitter || (any_reflector && !scene.lights.empty());
-  std::vector<double> G;
+  std::vector<double> F;  // row-major N×N, F_ij = G_ij / A_i
   std::vector<double> row_sum(N, 0.0);
   std::atomic<std::size_t> rows_done{0}, links{0};
   std::atomic<bool> cancelled{false};
   if (need_factors) {
-    G.assign(N * N, 0.0);
+    F.assign(N * N, 0.0);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, N, 1), [&](const auto& range) {
       for (std::size_t i = range.begin(); i != range.end(); ++i) {
         if (control.cancel && control.cancel->load(std::memory_order_relaxed)) {
@@ -244,25 +302,54 @@ Solution solve(const Scene& scene, const SolveControl& control) {
           if (unoccluded <= 0) continue;
           const double g = unoccluded * patch_visible_fraction(a, b, vis);
           if (g <= 0) continue;
-          G[i * N + j] = g;
-          G[j * N + i] = g;
+          F[i * N + j] = g / a.area_m2;  // each (i, j) with i < j is written by row i's task only
+          F[j * N + i] = g / b.area_m2;
           ++row_links;
         }
         links += row_links;
         const std::size_t done = ++rows_done;
         // Rows shrink linearly with i: progress is the share of pairs, not of rows.
-        if (control.progress && done % 64 == 0) {
-          const double f = 1 - std::pow(1 - double(done) / N, 2);
-          report(0.1 + 0.75 * f);
-        }
+        if (control.progress && done % 64 == 0) report(0.1 + 0.75 * (1 - std::pow(1 - double(done) / N, 2)));
       }
     });
     if (cancelled) throw SolveCancelled();
+    // Closure: a patch whose hemisphere is closed (no probe ray escapes or hits the back of a
+    // surface) must have Σ_j F_ij = 1; the kernel is exact, so any deficit or excess comes from
+    // the visible-fraction estimates of partly occluded links. Those rows are scaled to 1, which
+    // restores energy conservation (and the furnace B = M/(1 − ρ)) exactly; the size of the
+    // correction is reported, and reciprocity is then an independent check.
+    std::vector<char> closed(N, 0);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, N, 16), [&](const auto& range) {
+      for (std::size_t i = range.begin(); i != range.end(); ++i) closed[i] = hemisphere_is_closed(sol.patches, i, vis);
+    });
+    double worst_closure = 0;
+    std::size_t leaking_patches = 0;
     for (std::size_t i = 0; i < N; ++i) {
-      double s = 0;
-      for (std::size_t j = 0; j < N; ++j) s += G[i * N + j];
-      row_sum[i] = s / sol.patches[i].area_m2;
+      double sum = 0;
+      for (std::size_t j = 0; j < N; ++j) sum += F[i * N + j];
+      if (closed[i] == 1 && sum > 0) {
+        worst_closure = std::max(worst_closure, std::abs(1 - sum));
+        for (std::size_t j = 0; j < N; ++j) F[i * N + j] /= sum;
+        sum = 1;
+      } else {
+        leaking_patches += closed[i] == 2;
+      }
+      row_sum[i] = sum;
     }
+    sol.stats.max_closure_error = worst_closure;
+    if (leaking_patches > 0)
+      sol.warnings.push_back(std::to_string(leaking_patches) +
+                             " patches see the back of a surface: the geometry is not watertight or a "
+                             "surface faces the wrong way (light leaks)");
+    double worst = 0;
+    for (std::size_t i = 0; i < N; ++i)
+      for (std::size_t j = i + 1; j < N; ++j) {
+        const double gij = sol.patches[i].area_m2 * F[i * N + j], gji = sol.patches[j].area_m2 * F[j * N + i];
+        const double big = std::max(gij, gji);
+        if (big > 1e-9 * std::min(sol.patches[i].area_m2, sol.patches[j].area_m2))
+          worst = std::max(worst, std::abs(gij - gji) / big);
+      }
+    sol.stats.max_reciprocity_error = worst;
   }
   sol.stats.links = links;
   sol.stats.time_form_factors_s = seconds_since(t0);
@@ -281,39 +368,38 @@ Solution solve(const Scene& scene, const SolveControl& control) {
   for (const auto& [key, wavelengths] : groups) {
     check_cancel(control);
     const std::size_t w0 = wavelengths.front();
-    std::vector<int> active;
-    std::vector<double> D;
+    std::vector<int> active;  // patches that reflect at these wavelengths; the others have B = M
+    std::vector<double> active_rho;
     double rho_max = 0;
     for (std::size_t i = 0; i < N; ++i) {
       const double r = rho[i * W + w0];
       if (r > 0 && need_factors) {
         active.push_back(static_cast<int>(i));
-        D.push_back(sol.patches[i].area_m2 / r);
+        active_rho.push_back(r);
         rho_max = std::max(rho_max, r);
       }
     }
-    std::map<std::vector<double>, std::vector<double>> solved;  // rhs -> solution (dedupe)
+    std::map<std::vector<double>, std::vector<double>> solved;  // right-hand side -> solution
     for (std::size_t w : wavelengths) {
-      // Known radiosity of black patches: B = M.
       for (std::size_t i = 0; i < N; ++i)
         if (!(rho[i * W + w] > 0 && need_factors)) sol.radiosity[i * W + w] = M[i * W + w];
       if (active.empty()) continue;
+      // B_i − ρ_i Σ_{j active} F_ij B_j = M_i + ρ_i (E_i + Σ_{j black} F_ij M_j)
       std::vector<double> rhs(active.size());
       for (std::size_t r = 0; r < active.size(); ++r) {
         const std::size_t i = active[r];
-        double s = sol.patches[i].area_m2 * (M[i * W + w] / rho[i * W + w] + E_direct[i * W + w]);
+        double from_black = 0;
         for (std::size_t j = 0; j < N; ++j)
-          if (!(rho[j * W + w] > 0) && M[j * W + w] != 0) s += G[i * N + j] * M[j * W + w];
-        rhs[r] = s;
+          if (!(rho[j * W + w] > 0) && M[j * W + w] != 0) from_black += F[i * N + j] * M[j * W + w];
+        rhs[r] = M[i * W + w] + active_rho[r] * (E_direct[i * W + w] + from_black);
       }
       auto it = solved.find(rhs);
       if (it == solved.end()) {
-        std::vector<double> x(active.size());
-        for (std::size_t r = 0; r < active.size(); ++r) x[r] = rhs[r] / D[r];  // first bounce
-        const CgResult cg = conjugate_gradient(G, N, active, D, rhs, x, scene.solver.tolerance,
-                                               scene.solver.max_iterations, rho_max);
-        sol.stats.iterations = std::max(sol.stats.iterations, cg.iterations);
-        sol.stats.residual = std::max(sol.stats.residual, cg.residual);
+        std::vector<double> x = rhs;  // first bounce as the starting guess
+        const LinearSolveResult result = gmres(F, N, active, active_rho, rhs, x, scene.solver.tolerance,
+                                               scene.solver.max_iterations, rho_max, control);
+        sol.stats.iterations = std::max(sol.stats.iterations, result.iterations);
+        sol.stats.residual = std::max(sol.stats.residual, result.residual);
         ++sol.stats.spectral_systems_solved;
         it = solved.emplace(rhs, std::move(x)).first;
       }
@@ -327,15 +413,14 @@ Solution solve(const Scene& scene, const SolveControl& control) {
     for (std::size_t i = range.begin(); i != range.end(); ++i) {
       std::fill(h.begin(), h.end(), 0.0);
       if (need_factors) {
-        const double* row = &G[i * N];
+        const double* row = &F[i * N];
         for (std::size_t j = 0; j < N; ++j) {
           if (row[j] == 0) continue;
           const double* b = &sol.radiosity[j * W];
           for (std::size_t w = 0; w < W; ++w) h[w] += row[j] * b[w];
         }
       }
-      for (std::size_t w = 0; w < W; ++w)
-        sol.irradiance[i * W + w] = h[w] / sol.patches[i].area_m2 + E_direct[i * W + w];
+      for (std::size_t w = 0; w < W; ++w) sol.irradiance[i * W + w] = h[w] + E_direct[i * W + w];
     }
   });
   sol.stats.time_solve_s = seconds_since(t0);
@@ -363,25 +448,15 @@ Solution solve(const Scene& scene, const SolveControl& control) {
           if (std::all_of(b, b + W, [](double v) { return v == 0; })) continue;
           const double f = point_triangle_factor(p, probe.normal, sol.patches[j].triangle);
           if (f == 0) continue;
-          // Visible fraction of the patch from the point, kernel weighted like the patch pairs.
-          const auto& samples = triangle_visibility_samples();
-          double seen = 0, total = 0;
-          int visible_count = 0;
-          const Triangle& t = sol.patches[j].triangle;
-          for (int s = 0; s < 16; ++s) {
-            if (s == 4 && (visible_count == 0 || visible_count == 4)) break;
-            const auto& ws = samples[s];
-            const Point3 qs = barycentric(t.v[0], t.v[1], t.v[2], ws[0], ws[1], ws[2]);
-            const Vector3 d = qs - p;
-            const double r2 = length_squared(d);
-            const double weight = std::max(0.0, dot(probe.normal, d)) *
-                                      std::max(0.0, -dot(sol.patches[j].normal, d)) / (r2 * r2) + 1e-300;
-            const bool v = vis.visible(p, qs);
-            visible_count += v;
-            seen += v ? weight : 0;
-            total += weight;
-          }
-          const double fv = f * seen / total;
+          const Patch& patch = sol.patches[j];
+          const double fv = f * weighted_visible_fraction(
+                                    vis, [&](int k) { return std::pair{p, visibility_sample(patch.triangle, k)}; },
+                                    [&](const Point3&, const Point3& q) {
+                                      const Vector3 d = q - p;
+                                      const double r2 = length_squared(d);
+                                      return std::max(0.0, dot(probe.normal, d)) *
+                                             std::max(0.0, -dot(patch.normal, d)) / (r2 * r2);
+                                    });
           for (std::size_t w = 0; w < W; ++w) e[w] += fv * b[w];
         }
       }
@@ -392,7 +467,7 @@ Solution solve(const Scene& scene, const SolveControl& control) {
 
   // ---- energy balance: emitted = absorbed + escaped (all in W, integrated over the grid) ----
   const auto& wt = scene.grid.weight_nm;
-  double emitted = 0, absorbed = 0, escaped = 0, max_closure = 0;
+  double emitted = 0, absorbed = 0, escaped = 0;
   for (const Light& light : scene.lights) {
     const double flux = light_flux_factor(light);
     const auto& S = light_spectrum(light);
@@ -401,7 +476,6 @@ Solution solve(const Scene& scene, const SolveControl& control) {
   for (std::size_t i = 0; i < N; ++i) {
     const double A = sol.patches[i].area_m2;
     const double leak = need_factors ? 1 - row_sum[i] : 1;
-    max_closure = std::max(max_closure, std::abs(leak));
     for (std::size_t w = 0; w < W; ++w) {
       const std::size_t k = i * W + w;
       const double non_point_direct = E_direct[k] - E_point[k];  // directional and ambient
@@ -421,7 +495,6 @@ Solution solve(const Scene& scene, const SolveControl& control) {
   sol.stats.absorbed_W = absorbed;
   sol.stats.escaped_W = escaped;
   sol.stats.relative_imbalance = emitted > 0 ? (emitted - absorbed - escaped) / emitted : 0;
-  sol.stats.max_closure_error = max_closure;
   sol.stats.rays = vis.rays_traced();
   sol.stats.time_total_s = seconds_since(t_start);
   report(1.0);

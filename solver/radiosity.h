@@ -3,9 +3,9 @@
 //   B_i(λ) = M_i(λ) + ρ_i(λ) H_i(λ),   H_i = Σ_j F_ij B_j + E_i^direct          (constant elements)
 //
 // F_ij from the exact point-to-polygon kernel integrated over patch i (solver/form_factor.h) times a
-// ray-traced visible fraction (solver/visibility.h). The system is solved per distinct spectral
-// system with conjugate gradients on its symmetric form (A/ρ − G) B = A (M/ρ + E^direct) with
-// G_ij = A_i F_ij = G_ji, which converges in O(sqrt(1/(1−ρ))) iterations even for ρ → 1.
+// ray-traced redistribution of the occluded share to the occluders (solver/visible_fraction.h), so
+// that rows close exactly. The system (I − ρF) B = M + ρE is solved once per distinct spectral system
+// with restarted GMRES, which converges in O(sqrt(1/(1−ρ))) iterations even for ρ → 1.
 #pragma once
 
 #include <atomic>
@@ -38,7 +38,9 @@ struct SolveStats {
   double residual = 0;                 // largest final relative residual
   int spectral_systems_solved = 0;
   double emitted_W = 0, absorbed_W = 0, escaped_W = 0, relative_imbalance = 0;
-  double max_closure_error = 0;        // max_i |1 − Σ_j F_ij| over patches of closed scenes (info)
+  double max_closure_error = 0;        // max |1 − Σ_j F_ij| over closed patches, before their rows
+                                       // were scaled to 1 (the visible-fraction estimates' error)
+  double max_reciprocity_error = 0;    // max |A_i F_ij − A_j F_ji| / max(A_i F_ij, A_j F_ji)
   double time_meshing_s = 0, time_visibility_s = 0, time_form_factors_s = 0, time_solve_s = 0,
          time_probes_s = 0, time_total_s = 0;
   double max_patch_area_m2 = 0;

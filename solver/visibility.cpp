@@ -122,11 +122,20 @@ bool Visibility::visible(const Point3& from, const Point3& to) const {
   return ray.tfar >= 0;  // occlusion sets tfar = -inf
 }
 
-bool Visibility::visible_towards(const Point3& from, const Vector3& direction) const {
-  // A segment to a point beyond the scene's bounding sphere in that direction.
-  const Point3 far = from + normalize(direction) * (4 * impl_->scene_size + distance(from, impl_->origin));
-  return visible(from, far);
+int Visibility::first_hit(const Point3& from, const Point3& to) const {
+  set_ftz_daz();
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  alignas(16) RTCRayHit rayhit;
+  impl_->fill_ray(from, to, rayhit.ray);
+  rayhit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rayhit.hit.primID = RTC_INVALID_GEOMETRY_ID;
+  rtcIntersect1(impl_->scene, &context, &rayhit);
+  impl_->rays.fetch_add(1, std::memory_order_relaxed);
+  return rayhit.hit.geomID == RTC_INVALID_GEOMETRY_ID ? -1 : static_cast<int>(rayhit.hit.primID);
 }
+
+double Visibility::scene_extent() const { return 2 * impl_->scene_size; }
 
 void Visibility::visible(std::span<const Segment> segments, std::span<std::uint8_t> visible) const {
   set_ftz_daz();

@@ -26,8 +26,12 @@ class Visibility {
   // distance (a few float ulps of the scene's size) so that rays leaving or reaching a surface do not
   // hit that surface itself.
   bool visible(const Point3& from, const Point3& to) const;
-  // Whether a ray from `from` in `direction` leaves the scene without hitting anything.
-  bool visible_towards(const Point3& from, const Vector3& direction) const;
+  // Index (into the occluder list) of the first triangle the open segment hits, or -1 if none.
+  int first_hit(const Point3& from, const Point3& to) const;
+
+  // A length that takes any point of the scene out of its bounding box in any direction (m), for
+  // shadow rays towards directional light.
+  double scene_extent() const;
   // Batch form (uses Embree's stream API): visible[k] = 1 if segment k is unobstructed.
   void visible(std::span<const Segment> segments, std::span<std::uint8_t> visible) const;
 

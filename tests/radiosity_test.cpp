@@ -85,7 +85,8 @@ TEST(Radiosity, FurnaceConvexRoom) {
     double worst = 0;
     for (double B : sol.radiosity) worst = std::max(worst, std::abs(B - expected) / expected);
     EXPECT_LT(worst, 1e-3) << "rho=" << rho;
-    EXPECT_LT(sol.stats.max_closure_error, 1e-5);
+    EXPECT_LT(sol.stats.max_closure_error, 1e-5);  // convex: no occlusion, the kernel alone closes
+    EXPECT_LT(sol.stats.max_reciprocity_error, 1e-4);
   }
 }
 
@@ -102,8 +103,13 @@ TEST(Radiosity, FurnaceRoomWithObstacle) {
     area += sol.patches[i].area_m2;
     worst = std::max(worst, std::abs(sol.radiosity[i] - 2.0) / 2.0);
   }
-  EXPECT_NEAR(sum / area, 2.0, 2e-3);  // area mean
-  EXPECT_LT(worst, 1e-2);              // every patch
+  EXPECT_NEAR(sum / area, 2.0, 1e-6);  // area mean
+  EXPECT_LT(worst, 1e-6);              // every patch
+  // Before the closed rows were scaled to 1, the ray-estimated visible fractions of partly occluded
+  // links were off by at most a few per cent; reciprocity holds to the same order.
+  EXPECT_GT(sol.stats.max_closure_error, 0);
+  EXPECT_LT(sol.stats.max_closure_error, 0.03);
+  EXPECT_TRUE(sol.warnings.empty());
 }
 
 TEST(Radiosity, EnergyBalanceClosedRoomWithPointSource) {
