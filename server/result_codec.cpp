@@ -122,6 +122,7 @@ std::string encode_result(const Scene& scene, const Solution& sol, const Report&
         {"escaped_W", st.escaped_W},
         {"relative_imbalance", st.relative_imbalance}}},
       {"closure_max_error", st.max_closure_error},
+      {"reciprocity_max_error", st.max_reciprocity_error},
       {"time_s",
        {{"meshing", st.time_meshing_s},
         {"visibility", st.time_visibility_s},

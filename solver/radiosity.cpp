@@ -10,6 +10,7 @@
 #include <cmath>
 #include <map>
 #include <numeric>
+#include <set>
 
 #include "mesh/mesh_ops.h"
 #include "solver/form_factor.h"
@@ -314,33 +315,62 @@ Solution solve(const Scene& scene, const SolveControl& control) {
     });
     if (cancelled) throw SolveCancelled();
     // Closure: a patch whose hemisphere is closed (no probe ray escapes or hits the back of a
-    // surface) must have Σ_j F_ij = 1; the kernel is exact, so any deficit or excess comes from
-    // the visible-fraction estimates of partly occluded links. Those rows are scaled to 1, which
-    // restores energy conservation (and the furnace B = M/(1 − ρ)) exactly; the size of the
-    // correction is reported, and reciprocity is then an independent check.
+    // surface) must have Σ_j F_ij = 1; the kernel is exact, so any deficit or excess comes from the
+    // visible-fraction estimates of partly occluded links. We restore it with a symmetric diagonal
+    // scaling G' = D G D (symmetric Sinkhorn balancing, D = 1 on open patches), which keeps
+    // reciprocity A_i F_ij = A_j F_ji exact while closing every closed row: energy is conserved
+    // and the furnace gives B = M/(1 − ρ) exactly. The size of the correction is reported.
     std::vector<char> closed(N, 0);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, N, 16), [&](const auto& range) {
       for (std::size_t i = range.begin(); i != range.end(); ++i) closed[i] = hemisphere_is_closed(sol.patches, i, vis);
     });
+    auto row_total = [&](std::size_t i, const std::vector<double>& d) {
+      const double* row = &F[i * N];
+      double t = 0;
+      for (std::size_t j = 0; j < N; ++j) t += row[j] * d[j];
+      return t;
+    };
     double worst_closure = 0;
     std::size_t leaking_patches = 0;
+    std::vector<double> d(N, 1.0);
     for (std::size_t i = 0; i < N; ++i) {
-      double sum = 0;
-      for (std::size_t j = 0; j < N; ++j) sum += F[i * N + j];
-      if (closed[i] == 1 && sum > 0) {
-        worst_closure = std::max(worst_closure, std::abs(1 - sum));
-        for (std::size_t j = 0; j < N; ++j) F[i * N + j] /= sum;
-        sum = 1;
-      } else {
-        leaking_patches += closed[i] == 2;
-      }
-      row_sum[i] = sum;
+      const double sum = row_total(i, d);
+      if (closed[i] == 1 && sum > 0) worst_closure = std::max(worst_closure, std::abs(1 - sum));
+      leaking_patches += closed[i] == 2;
     }
+    for (int iteration = 0; iteration < 500 && worst_closure > 0; ++iteration) {
+      std::vector<double> totals(N);
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, N, 32), [&](const auto& range) {
+        for (std::size_t i = range.begin(); i != range.end(); ++i) totals[i] = closed[i] == 1 ? row_total(i, d) : 0;
+      });
+      double deviation = 0;
+      for (std::size_t i = 0; i < N; ++i) {
+        if (closed[i] != 1 || totals[i] <= 0) continue;
+        const double row_sum_now = d[i] * totals[i];  // Σ_j F'_ij with F'_ij = d_i F_ij d_j
+        deviation = std::max(deviation, std::abs(1 - row_sum_now));
+        d[i] = std::sqrt(d[i] / totals[i]);
+      }
+      if (deviation < 1e-13) break;
+    }
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, N, 32), [&](const auto& range) {
+      for (std::size_t i = range.begin(); i != range.end(); ++i) {
+        double* row = &F[i * N];
+        double sum = 0;
+        for (std::size_t j = 0; j < N; ++j) sum += row[j] *= d[i] * d[j];
+        row_sum[i] = sum;
+      }
+    });
     sol.stats.max_closure_error = worst_closure;
-    if (leaking_patches > 0)
-      sol.warnings.push_back(std::to_string(leaking_patches) +
-                             " patches see the back of a surface: the geometry is not watertight or a "
-                             "surface faces the wrong way (light leaks)");
+    if (leaking_patches > 0) {
+      std::set<std::string> names;
+      for (std::size_t i = 0; i < N; ++i)
+        if (closed[i] == 2) names.insert(scene.surfaces[sol.patches[i].surface].name);
+      std::string list;
+      for (const auto& name : names) list += (list.empty() ? "" : ", ") + name;
+      sol.warnings.push_back(std::to_string(leaking_patches) + " patches (of " + list +
+                             ") see the back of a surface: an enclosure is open underneath or a "
+                             "surface faces the wrong way; light reaching a back side is lost");
+    }
     double worst = 0;
     for (std::size_t i = 0; i < N; ++i)
       for (std::size_t j = i + 1; j < N; ++j) {

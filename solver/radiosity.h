@@ -3,8 +3,8 @@
 //   B_i(λ) = M_i(λ) + ρ_i(λ) H_i(λ),   H_i = Σ_j F_ij B_j + E_i^direct          (constant elements)
 //
 // F_ij from the exact point-to-polygon kernel integrated over patch i (solver/form_factor.h) times a
-// ray-traced redistribution of the occluded share to the occluders (solver/visible_fraction.h), so
-// that rows close exactly. The system (I − ρF) B = M + ρE is solved once per distinct spectral system
+// kernel-weighted ray-traced visible fraction (solver/visible_fraction.h); rows of closed patches are
+// balanced to sum to 1 by a symmetric scaling that keeps reciprocity exact. The system (I − ρF) B = M + ρE is solved once per distinct spectral system
 // with restarted GMRES, which converges in O(sqrt(1/(1−ρ))) iterations even for ρ → 1.
 #pragma once
 

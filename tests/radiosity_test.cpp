@@ -105,10 +105,12 @@ TEST(Radiosity, FurnaceRoomWithObstacle) {
   }
   EXPECT_NEAR(sum / area, 2.0, 1e-6);  // area mean
   EXPECT_LT(worst, 1e-6);              // every patch
-  // Before the closed rows were scaled to 1, the ray-estimated visible fractions of partly occluded
-  // links were off by at most a few per cent; reciprocity holds to the same order.
+  // Before the closed rows were balanced, the ray-estimated visible fractions of partly occluded
+  // links were off by at most a few per cent; the balancing keeps reciprocity exact.
   EXPECT_GT(sol.stats.max_closure_error, 0);
   EXPECT_LT(sol.stats.max_closure_error, 0.03);
+  EXPECT_LT(sol.stats.max_reciprocity_error, 1e-9);
+  EXPECT_LT(std::abs(sol.stats.relative_imbalance), 1e-9);
   EXPECT_TRUE(sol.warnings.empty());
 }
 
