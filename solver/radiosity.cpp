@@ -55,27 +55,36 @@ double patch_visible_fraction(const Patch& a, const Patch& b, const Visibility& 
       vis,
       [&](int k) {
         // A fixed odd-multiplier permutation pairs samples that are not in corresponding cells.
-        return std::pair{visibility_sample(a.triangle, k),
-                         visibility_sample(b.triangle, (37 * k + 11) % kMaxVisibilitySamples)};
+        return std::pair{vis.lift(visibility_sample(a.triangle, k), a.normal),
+                         vis.lift(visibility_sample(b.triangle, (37 * k + 11) % kMaxVisibilitySamples), b.normal)};
       },
       [&](const Point3& p, const Point3& q) { return link_weight(p, a.normal, q, b.normal); });
 }
 
-// Probes patch i's hemisphere with 64 stratified cosine-distributed rays from its sample points.
-// Returns 1 if every ray hits the front of another patch (closed), 2 if one hits the back of a
-// surface (a leak or a wrongly oriented surface), 0 if one escapes the scene (open).
+// Probes patch i's hemisphere with kHemisphereRays cosine-distributed rays: a rank-1 lattice
+// (Fibonacci) in [0,1)², shifted per patch (Cranley–Patterson) so that no direction is missed
+// systematically, from the patch's stratified sample points. Returns 1 if every ray hits the front of
+// another patch (closed), 2 if one hits the back of a surface (an open enclosure underneath or a
+// surface facing the wrong way), 0 if one escapes the scene (open). An opening that subtends a
+// fraction p of the projected hemisphere goes unseen with probability (1 − p)^1024: 3e-5 for p = 1 %.
+constexpr int kHemisphereRays = 1024;
 char hemisphere_is_closed(const std::vector<Patch>& patches, std::size_t i, const Visibility& vis) {
   const Patch& p = patches[i];
   const Vector3 n = p.normal;
   const Vector3 t = normalize(std::abs(n.x) < 0.9 ? cross(n, Vector3{1, 0, 0}) : cross(n, Vector3{0, 1, 0}));
   const Vector3 s = cross(n, t);
   const double reach = vis.scene_extent();
+  constexpr double kGolden = 0.6180339887498949;  // (√5 − 1)/2
+  // A deterministic per-patch shift (hash of the index) decorrelates neighbouring patches.
+  const double shift1 = std::fmod((i + 1) * 0.7548776662466927, 1.0);
+  const double shift2 = std::fmod((i + 1) * 0.5698402909980532, 1.0);
   char result = 1;
-  for (int k = 0; k < 64; ++k) {
-    const double u1 = ((k / 8) + 0.5) / 8, u2 = ((k % 8) + 0.5) / 8;  // stratified on [0,1)²
-    const double r = std::sqrt(u1), phi = 2 * kPi * u2;
+  for (int k = 0; k < kHemisphereRays; ++k) {
+    const double u1 = std::fmod((k + 0.5) / kHemisphereRays + shift1, 1.0);
+    const double u2 = std::fmod(k * kGolden + shift2, 1.0);
+    const double r = std::sqrt(u1), phi = 2 * kPi * u2;  // cosine-weighted (Malley)
     const Vector3 d = t * (r * std::cos(phi)) + s * (r * std::sin(phi)) + n * std::sqrt(1 - u1);
-    const Point3 from = visibility_sample(p.triangle, (13 * k) % kMaxVisibilitySamples);
+    const Point3 from = vis.lift(visibility_sample(p.triangle, k % kMaxVisibilitySamples), n);
     const int hit = vis.first_hit(from, from + d * reach);
     if (hit < 0) return 0;
     if (dot(patches[hit].normal, d) >= 0) result = 2;
@@ -209,6 +218,27 @@ Solution solve(const Scene& scene, const SolveControl& control) {
   auto t0 = Clock::now();
   const double max_area = scene.meshing.max_patch_area_m2.value_or(default_max_patch_area(scene));
   sol.stats.max_patch_area_m2 = max_area;
+  // Every patch has an area <= max_area, so total area / max_area bounds the patch count from below:
+  // a limit that is sure to be exceeded is reported before meshing, which a tiny max_patch_area
+  // would otherwise drive out of memory.
+  const std::size_t patch_limit =
+      control.max_patches > 0 ? std::min(control.max_patches, kMaxDensePatches) : kMaxDensePatches;
+  auto check_patch_count = [&](double patches, bool estimate) {
+    if (!(patches > static_cast<double>(patch_limit))) return;
+    const std::string count = (estimate ? "at least " : "") + std::to_string(static_cast<std::size_t>(
+                                  std::min(patches, 1e18)));
+    if (patch_limit == control.max_patches)
+      throw SolveError("meshing gives " + count + " patches, more than this server's limit of " +
+                       std::to_string(patch_limit) + " (max_patches); increase meshing.max_patch_area");
+    throw SolveError(count + " patches exceed this solver's limit of " +
+                     std::to_string(kMaxDensePatches) + "; increase meshing.max_patch_area");
+  };
+  {
+    double total_area = 0;
+    for (const Surface& s : scene.surfaces)
+      for (std::size_t t = 0; t < s.mesh.triangles.size(); ++t) total_area += s.mesh.triangle(t).area();
+    check_patch_count(total_area / max_area * (1 - 1e-9), true);
+  }
   for (std::size_t s = 0; s < scene.surfaces.size(); ++s) {
     const TriangleMesh patches = subdivide_to_max_area(scene.surfaces[s].mesh, max_area);
     for (std::size_t t = 0; t < patches.triangles.size(); ++t) {
@@ -223,9 +253,7 @@ Solution solve(const Scene& scene, const SolveControl& control) {
   }
   const std::size_t N = sol.patches.size();
   sol.stats.patches = N;
-  if (N > kMaxDensePatches)
-    throw SolveError(std::to_string(N) + " patches exceed this solver's limit of " +
-                     std::to_string(kMaxDensePatches) + "; increase meshing.max_patch_area");
+  check_patch_count(static_cast<double>(N), false);
   sol.stats.time_meshing_s = seconds_since(t0);
   check_cancel(control);
   report(0.05);
@@ -480,7 +508,11 @@ Solution solve(const Scene& scene, const SolveControl& control) {
           if (f == 0) continue;
           const Patch& patch = sol.patches[j];
           const double fv = f * weighted_visible_fraction(
-                                    vis, [&](int k) { return std::pair{p, visibility_sample(patch.triangle, k)}; },
+                                    vis,
+                                    [&](int k) {
+                                      return std::pair{vis.lift(p, probe.normal),
+                                                       vis.lift(visibility_sample(patch.triangle, k), patch.normal)};
+                                    },
                                     [&](const Point3&, const Point3& q) {
                                       const Vector3 d = q - p;
                                       const double r2 = length_squared(d);

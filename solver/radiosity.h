@@ -61,6 +61,8 @@ struct Solution {
 struct SolveControl {
   std::function<void(double)> progress;
   const std::atomic<bool>* cancel = nullptr;
+  std::size_t max_patches = 0;  // a service's limit on the patch count (0: only the solver's own);
+                                // exceeding it throws SolveError, before the form factors
 };
 
 class SolveCancelled : public std::runtime_error {

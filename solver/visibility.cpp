@@ -77,11 +77,14 @@ Visibility::Visibility(std::span<const Triangle> occluders) : impl_(std::make_un
     for (const Point3& p : t.v) bounds.add(p);
   impl_->origin = bounds.empty() ? Point3{} : bounds.center();
   const double size = bounds.empty() ? 1.0 : std::max(length(bounds.diagonal()), 1e-30);
-  // Float positions carry ~6e-8 relative error of the (re-centred) scene size; stay well above it.
-  impl_->epsilon_m = 1e-6 * size;
+  // Float positions carry ~3e-8 × size absolute error after re-centring; stay well above it.
+  impl_->epsilon_m = 4e-6 * size;
   impl_->scene_size = size;
 
   impl_->scene = rtcNewScene(device);
+  // Robust mode keeps shared edges watertight: a ray through the seam between two walls must not
+  // slip out of a closed room (the closure probe relies on it).
+  rtcSetSceneFlags(impl_->scene, RTC_SCENE_FLAG_ROBUST);
   if (!occluders.empty()) {
     RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
     auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
@@ -133,6 +136,10 @@ int Visibility::first_hit(const Point3& from, const Point3& to) const {
   rtcIntersect1(impl_->scene, &context, &rayhit);
   impl_->rays.fetch_add(1, std::memory_order_relaxed);
   return rayhit.hit.geomID == RTC_INVALID_GEOMETRY_ID ? -1 : static_cast<int>(rayhit.hit.primID);
+}
+
+Point3 Visibility::lift(const Point3& p, const Vector3& unit_normal) const {
+  return p + unit_normal * impl_->epsilon_m;
 }
 
 double Visibility::scene_extent() const { return 2 * impl_->scene_size; }

@@ -26,6 +26,11 @@ class Visibility {
   // distance (a few float ulps of the scene's size) so that rays leaving or reaching a surface do not
   // hit that surface itself.
   bool visible(const Point3& from, const Point3& to) const;
+  // A point on a surface moved off it along the surface's normal by a small multiple of the float
+  // resolution of the scene's size: a ray that leaves or reaches a surface at a grazing angle would
+  // otherwise hit that surface itself within float precision. Use for every surface end point.
+  Point3 lift(const Point3& p, const Vector3& unit_normal) const;
+
   // Index (into the occluder list) of the first triangle the open segment hits, or -1 if none.
   int first_hit(const Point3& from, const Point3& to) const;
 
