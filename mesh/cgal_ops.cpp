@@ -177,8 +177,8 @@ PolygonTriangulation triangulate_polygon(const std::vector<Point3>& polygon,
   const double tolerance = planarity_tolerance * diameter;
   if (worst_distance > tolerance)
     return failure("non-planar: vertex " + std::to_string(worst) + " is " +
-                   format_number(worst_distance) + " m from the plane (tolerance " +
-                   format_number(tolerance) + " m)");
+                   format_number(worst_distance) + " from the plane (tolerance " +
+                   format_number(tolerance) + ", lengths in the polygon's units)");
 
   // Project by dropping the dominant coordinate of the normal: the 2D points are exact copies of
   // input coordinates, so the exact predicates below judge the input itself. The two kept axes

@@ -32,7 +32,7 @@ double triangle_solid_angle(const Point3& p, const Triangle& t);
 // Symmetric in exact arithmetic: A_i F_ij = A_j F_ji (reciprocity).
 struct AreaFactorOptions {
   double rel_tolerance = 1e-5;   // relative to the pair's own value
-  double abs_tolerance = 1e-9;   // times the receiver's area: floor for pairs that barely see each other
+  double abs_tolerance = 1e-7;   // times the receiver's area: floor for pairs that barely see each other
   int max_depth = 7;             // 4^7 sub-triangles at most
   // Pairs farther apart than this many times the sum of their bounding radii use the fixed degree-5
   // rule alone (measured error < 1e-5 there, see form_factor_test "FarField").

@@ -14,7 +14,8 @@
 
 #include "mesh/mesh_ops.h"
 #include "solver/form_factor.h"
-#include "solver/lights.h"
+#include "solver/light_model.h"
+#include "solver/linear_solve.h"
 #include "solver/visibility.h"
 #include "solver/visible_fraction.h"
 
@@ -92,111 +93,6 @@ char hemisphere_is_closed(const std::vector<Patch>& patches, std::size_t i, cons
   return result;
 }
 
-// Restarted GMRES for (I − diag(ρ) F) x = b on the active set (patches with ρ > 0). F is stored
-// row-major N×N with rows that sum to the receiver's closure (1 in a closed scene). The matrix is
-// close to self-adjoint in the area-weighted inner product (reciprocity), so GMRES converges like CG:
-// in O(sqrt(1/(1 − ρ))) iterations even for ρ → 1. It stops when the relative residual bounds the
-// relative error below `tolerance`: ‖e‖/‖x‖ ≤ κ ‖r‖/‖b‖ with κ ≤ (1 + ρ_max)/(1 − ρ_max).
-struct LinearSolveResult { int iterations; double residual; };
-LinearSolveResult gmres(const std::vector<double>& F, std::size_t N, const std::vector<int>& active,
-                        const std::vector<double>& rho, const std::vector<double>& b, std::vector<double>& x,
-                        double tolerance, int max_iterations, double rho_max, const SolveControl& control) {
-  const std::size_t n = active.size();
-  auto apply = [&](const std::vector<double>& v, std::vector<double>& out) {
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 32), [&](const auto& range) {
-      for (std::size_t r = range.begin(); r != range.end(); ++r) {
-        const double* row = &F[static_cast<std::size_t>(active[r]) * N];
-        double s = 0;
-        for (std::size_t c = 0; c < n; ++c) s += row[active[c]] * v[c];
-        out[r] = v[r] - rho[r] * s;
-      }
-    });
-  };
-  auto norm = [](const std::vector<double>& v) {
-    double s = 0;
-    for (double e : v) s += e * e;
-    return std::sqrt(s);
-  };
-  const double b_norm = norm(b);
-  if (b_norm == 0) {
-    std::fill(x.begin(), x.end(), 0.0);
-    return {0, 0};
-  }
-  const double kappa = rho_max < 1 ? (1 + rho_max) / (1 - rho_max) : 1e300;
-  const double target = tolerance / kappa;
-  constexpr int kRestart = 60;
-  std::vector<std::vector<double>> V(kRestart + 1, std::vector<double>(n));
-  std::vector<std::vector<double>> H(kRestart + 1, std::vector<double>(kRestart, 0.0));
-  std::vector<double> cs(kRestart), sn(kRestart), g(kRestart + 1), w(n);
-  int iterations = 0;
-  double rel = 1;
-  while (iterations < max_iterations) {
-    if (control.cancel && control.cancel->load(std::memory_order_relaxed)) throw SolveCancelled();
-    apply(x, w);
-    for (std::size_t k = 0; k < n; ++k) V[0][k] = b[k] - w[k];
-    const double beta = norm(V[0]);
-    rel = beta / b_norm;
-    if (rel <= target) break;
-    for (double& v : V[0]) v /= beta;
-    std::fill(g.begin(), g.end(), 0.0);
-    g[0] = beta;
-    int m = 0;
-    for (; m < kRestart && iterations < max_iterations; ++m, ++iterations) {
-      apply(V[m], w);
-      for (int i = 0; i <= m; ++i) {  // modified Gram–Schmidt
-        double h = 0;
-        for (std::size_t k = 0; k < n; ++k) h += w[k] * V[i][k];
-        H[i][m] = h;
-        for (std::size_t k = 0; k < n; ++k) w[k] -= h * V[i][k];
-      }
-      const double h_next = norm(w);
-      H[m + 1][m] = h_next;
-      if (h_next > 0)
-        for (std::size_t k = 0; k < n; ++k) V[m + 1][k] = w[k] / h_next;
-      for (int i = 0; i < m; ++i) {  // apply the previous Givens rotations to the new column
-        const double t = cs[i] * H[i][m] + sn[i] * H[i + 1][m];
-        H[i + 1][m] = -sn[i] * H[i][m] + cs[i] * H[i + 1][m];
-        H[i][m] = t;
-      }
-      const double r = std::hypot(H[m][m], H[m + 1][m]);
-      cs[m] = r > 0 ? H[m][m] / r : 1;
-      sn[m] = r > 0 ? H[m + 1][m] / r : 0;
-      H[m][m] = r;
-      H[m + 1][m] = 0;
-      g[m + 1] = -sn[m] * g[m];
-      g[m] = cs[m] * g[m];
-      rel = std::abs(g[m + 1]) / b_norm;
-      if (rel <= target || h_next == 0) {
-        ++m;
-        ++iterations;
-        break;
-      }
-    }
-    // x += V y with H y = g (upper triangular back substitution)
-    std::vector<double> y(m);
-    for (int i = m - 1; i >= 0; --i) {
-      double s = g[i];
-      for (int j = i + 1; j < m; ++j) s -= H[i][j] * y[j];
-      if (H[i][i] == 0) throw SolveError("the radiosity system is singular (reflectance 1 in a closed scene?)");
-      y[i] = s / H[i][i];
-    }
-    for (int i = 0; i < m; ++i)
-      for (std::size_t k = 0; k < n; ++k) x[k] += y[i] * V[i][k];
-    if (rel <= target) {
-      apply(x, w);  // the true residual, not the recurrence's estimate
-      double r2 = 0;
-      for (std::size_t k = 0; k < n; ++k) r2 += (b[k] - w[k]) * (b[k] - w[k]);
-      rel = std::sqrt(r2) / b_norm;
-      if (rel <= target) break;
-    }
-  }
-  if (!(rel <= target))
-    throw SolveError("the radiosity solve did not converge in " + std::to_string(max_iterations) +
-                     " iterations (relative residual " + std::to_string(rel) +
-                     "; is the reflectance 1 in a closed scene?)");
-  return {iterations, rel};
-}
-
 }  // namespace
 
 double default_max_patch_area(const Scene& scene) {
@@ -266,8 +162,14 @@ Solution solve(const Scene& scene, const SolveControl& control) {
   sol.stats.time_visibility_s = seconds_since(t0);
 
   // ---- per-patch reflectance, emission and direct irradiance ----
+  // Direct sources: the scene's lights, then each patch of a Phong-lobed emitter, whose emission
+  // reaches the other patches and the probes as direct irradiance (so M and B hold Lambertian
+  // emission only, and a lobed emitter's B is its reflected part ρH). E_point is the direct
+  // irradiance from the sources whose emitted flux is known (flux_factor > 0).
   std::vector<double> rho(N * W), M(N * W, 0.0), E_direct(N * W, 0.0), E_point(N * W, 0.0);
   bool any_emitter = false, any_reflector = false;
+  std::vector<std::unique_ptr<LightModel>> sources;
+  for (const Light& light : scene.lights) sources.push_back(make_light_model(light));
   for (std::size_t i = 0; i < N; ++i) {
     const Surface& s = scene.surfaces[sol.patches[i].surface];
     const auto& refl = scene.materials[s.material].reflectance;
@@ -275,25 +177,25 @@ Solution solve(const Scene& scene, const SolveControl& control) {
       rho[i * W + w] = refl[w];
       any_reflector |= refl[w] > 0;
     }
-    if (s.emission) {
-      if (s.emission->lobe_exponent != 1.0)
-        throw SolveError(s.pointer + "/emission/lobe: Phong-lobed emitters are not solved by this "
-                         "version yet (only \"lambert\")");
+    if (s.emission && s.emission->lobe_exponent != 1.0) {
+      sources.push_back(make_phong_emitter(sol.patches[i].triangle, s.emission->lobe_exponent,
+                                           s.emission->exitance_W_m2_nm));
+    } else if (s.emission) {
       for (std::size_t w = 0; w < W; ++w) M[i * W + w] = s.emission->exitance_W_m2_nm[w];
       any_emitter = true;
     }
   }
-  if (!scene.lights.empty()) {
+  if (!sources.empty()) {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, N, 16), [&](const auto& range) {
       for (std::size_t i = range.begin(); i != range.end(); ++i) {
-        for (const Light& light : scene.lights) {
-          const double g = light_patch_factor(light, sol.patches[i].triangle, vis);
+        for (const auto& source : sources) {
+          const double g = source->patch_factor(sol.patches[i].triangle, vis);
           if (g == 0) continue;
-          const auto& S = light_spectrum(light);
-          const bool is_point = std::holds_alternative<PointLight>(light);
+          const auto& S = source->spectrum();
+          const bool known_flux = source->flux_factor() > 0;
           for (std::size_t w = 0; w < W; ++w) {
             E_direct[i * W + w] += g * S[w];
-            if (is_point) E_point[i * W + w] += g * S[w];
+            if (known_flux) E_point[i * W + w] += g * S[w];
           }
         }
       }
@@ -306,7 +208,7 @@ Solution solve(const Scene& scene, const SolveControl& control) {
   // G_ij = A_i F_ij = G_ji from the exact kernel integrated over the smaller patch of each pair, times
   // the kernel-weighted visible fraction from rays; computed once per unordered pair.
   t0 = Clock::now();
-  const bool need_factors = any_emitter || (any_reflector && !scene.lights.empty());
+  const bool need_factors = any_emitter || (any_reflector && !sources.empty());
   std::vector<double> F;  // row-major N×N, F_ij = G_ij / A_i
   std::vector<double> row_sum(N, 0.0);
   std::atomic<std::size_t> rows_done{0}, links{0};
@@ -423,47 +325,72 @@ Solution solve(const Scene& scene, const SolveControl& control) {
     for (std::size_t m = 0; m < key.size(); ++m) key[m] = scene.materials[m].reflectance[w];
     groups[key].push_back(w);
   }
-  for (const auto& [key, wavelengths] : groups) {
-    check_cancel(control);
-    const std::size_t w0 = wavelengths.front();
-    std::vector<int> active;  // patches that reflect at these wavelengths; the others have B = M
-    std::vector<double> active_rho;
-    double rho_max = 0;
-    for (std::size_t i = 0; i < N; ++i) {
-      const double r = rho[i * W + w0];
-      if (r > 0 && need_factors) {
+  // Unknowns: patches that reflect at some wavelength. Patches black at every wavelength keep B = M
+  // and are not iterated over; their emission enters the right-hand sides.
+  std::vector<int> active;
+  for (std::size_t i = 0; i < N && need_factors; ++i)
+    for (std::size_t w = 0; w < W; ++w)
+      if (rho[i * W + w] > 0) {
         active.push_back(static_cast<int>(i));
-        active_rho.push_back(r);
-        rho_max = std::max(rho_max, r);
+        break;
+      }
+  const std::size_t n = active.size();
+  std::vector<char> is_active(N, 0);
+  for (int i : active) is_active[i] = 1;
+  for (std::size_t i = 0; i < N; ++i)
+    if (!is_active[i])
+      for (std::size_t w = 0; w < W; ++w) sol.radiosity[i * W + w] = M[i * W + w];
+  if (n > 0) {
+    // F restricted to the unknowns (a copy only when some patches are black everywhere).
+    std::vector<double> compact;
+    if (n < N) {
+      compact.resize(n * n);
+      for (std::size_t r = 0; r < n; ++r)
+        for (std::size_t c = 0; c < n; ++c) compact[r * n + c] = F[active[r] * N + active[c]];
+    }
+    const std::vector<double>& Fa = n < N ? compact : F;
+    // One system per distinct (reflectance column, right-hand side); wavelengths map onto them.
+    //   B_i − ρ_i Σ_{j active} F_ij B_j = M_i + ρ_i (E_i + Σ_{j black} F_ij M_j)
+    std::vector<RadiositySystem> systems;
+    std::map<std::pair<std::vector<double>, std::vector<double>>, std::size_t> system_of;
+    std::vector<std::size_t> wavelength_system(W);
+    for (const auto& [key, wavelengths] : groups) {
+      std::vector<double> rho_column(n);
+      for (std::size_t r = 0; r < n; ++r) rho_column[r] = rho[active[r] * W + wavelengths.front()];
+      for (std::size_t w : wavelengths) {
+        std::vector<double> rhs(n);
+        for (std::size_t r = 0; r < n; ++r) {
+          const std::size_t i = active[r];
+          double from_black = 0;
+          if (n < N)
+            for (std::size_t j = 0; j < N; ++j)
+              if (!is_active[j] && M[j * W + w] != 0) from_black += F[i * N + j] * M[j * W + w];
+          rhs[r] = M[i * W + w] + rho_column[r] * (E_direct[i * W + w] + from_black);
+        }
+        auto [it, inserted] = system_of.try_emplace({rho_column, rhs}, systems.size());
+        if (inserted) {
+          RadiositySystem& sys = systems.emplace_back();
+          sys.rho = rho_column;
+          sys.x = rhs;  // first bounce as the starting guess
+          sys.b = std::move(rhs);
+        }
+        wavelength_system[w] = it->second;
       }
     }
-    std::map<std::vector<double>, std::vector<double>> solved;  // right-hand side -> solution
-    for (std::size_t w : wavelengths) {
-      for (std::size_t i = 0; i < N; ++i)
-        if (!(rho[i * W + w] > 0 && need_factors)) sol.radiosity[i * W + w] = M[i * W + w];
-      if (active.empty()) continue;
-      // B_i − ρ_i Σ_{j active} F_ij B_j = M_i + ρ_i (E_i + Σ_{j black} F_ij M_j)
-      std::vector<double> rhs(active.size());
-      for (std::size_t r = 0; r < active.size(); ++r) {
-        const std::size_t i = active[r];
-        double from_black = 0;
-        for (std::size_t j = 0; j < N; ++j)
-          if (!(rho[j * W + w] > 0) && M[j * W + w] != 0) from_black += F[i * N + j] * M[j * W + w];
-        rhs[r] = M[i * W + w] + active_rho[r] * (E_direct[i * W + w] + from_black);
-      }
-      auto it = solved.find(rhs);
-      if (it == solved.end()) {
-        std::vector<double> x = rhs;  // first bounce as the starting guess
-        const LinearSolveResult result = gmres(F, N, active, active_rho, rhs, x, scene.solver.tolerance,
-                                               scene.solver.max_iterations, rho_max, control);
-        sol.stats.iterations = std::max(sol.stats.iterations, result.iterations);
-        sol.stats.residual = std::max(sol.stats.residual, result.residual);
-        ++sol.stats.spectral_systems_solved;
-        it = solved.emplace(rhs, std::move(x)).first;
-      }
-      for (std::size_t r = 0; r < active.size(); ++r)
-        sol.radiosity[active[r] * W + w] = std::max(0.0, it->second[r]);
+    solve_radiosity_systems(Fa, n, systems, scene.solver.tolerance, scene.solver.max_iterations,
+                            [&] { return control.cancel && control.cancel->load(std::memory_order_relaxed); });
+    for (const RadiositySystem& sys : systems) {
+      sol.stats.iterations = std::max(sol.stats.iterations, sys.iterations);
+      sol.stats.residual = std::max(sol.stats.residual, sys.residual);
     }
+    sol.stats.spectral_systems_solved = static_cast<int>(systems.size());
+    // A spectral radiosity is ≥ 0, so a negative x is round-off and is dropped; an rgb channel
+    // value may be negative (signed O_c and I_c, solver/rgb_model.h) and is kept.
+    const bool keep_sign = scene.mode == SpectrumMode::Rgb;
+    for (std::size_t w = 0; w < W; ++w)
+      for (std::size_t r = 0; r < n; ++r)
+        sol.radiosity[active[r] * W + w] = keep_sign ? systems[wavelength_system[w]].x[r]
+                                                     : std::max(0.0, systems[wavelength_system[w]].x[r]);
   }
   // H_i = Σ_j F_ij B_j + E_i^direct
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, N, 16), [&](const auto& range) {
@@ -495,10 +422,10 @@ Solution solve(const Scene& scene, const SolveControl& control) {
       for (std::size_t q = range.begin(); q != range.end(); ++q) {
         const Point3& p = probe.points[q];
         double* e = &out[q * W];
-        for (const Light& light : scene.lights) {
-          const double g = light_point_factor(light, p, probe.normal, vis);
+        for (const auto& source : sources) {
+          const double g = source->point_factor(p, probe.normal, vis);
           if (g == 0) continue;
-          const auto& S = light_spectrum(light);
+          const auto& S = source->spectrum();
           for (std::size_t w = 0; w < W; ++w) e[w] += g * S[w];
         }
         for (std::size_t j = 0; j < N; ++j) {
@@ -530,10 +457,14 @@ Solution solve(const Scene& scene, const SolveControl& control) {
   // ---- energy balance: emitted = absorbed + escaped (all in W, integrated over the grid) ----
   const auto& wt = scene.grid.weight_nm;
   double emitted = 0, absorbed = 0, escaped = 0;
-  for (const Light& light : scene.lights) {
-    const double flux = light_flux_factor(light);
-    const auto& S = light_spectrum(light);
-    for (std::size_t w = 0; w < W; ++w) emitted += wt[w] * flux * S[w];
+  for (const auto& source : sources) {
+    // Known-flux sources (point-like, lobed emitters): what reached no patch escaped.
+    const double flux = source->flux_factor();
+    const auto& S = source->spectrum();
+    for (std::size_t w = 0; w < W; ++w) {
+      emitted += wt[w] * flux * S[w];
+      escaped += wt[w] * flux * S[w];
+    }
   }
   for (std::size_t i = 0; i < N; ++i) {
     const double A = sol.patches[i].area_m2;
@@ -546,12 +477,6 @@ Solution solve(const Scene& scene, const SolveControl& control) {
       escaped += wt[w] * A * sol.radiosity[k] * leak;
       escaped -= wt[w] * A * E_point[k];  // point flux that reached a patch did not escape
     }
-  }
-  for (const Light& light : scene.lights) {
-    if (!std::holds_alternative<PointLight>(light)) continue;
-    const double flux = light_flux_factor(light);
-    const auto& S = light_spectrum(light);
-    for (std::size_t w = 0; w < W; ++w) escaped += wt[w] * flux * S[w];
   }
   sol.stats.emitted_W = emitted;
   sol.stats.absorbed_W = absorbed;

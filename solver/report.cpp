@@ -4,12 +4,37 @@
 #include <algorithm>
 #include <limits>
 
+#include "solver/rgb_model.h"
+
 namespace lambert {
+namespace {
+
+// The photometric end of the pipeline, by spectrum mode: spectral integrals against the CIE tables,
+// or, in rgb mode, the inverse EBU matrix applied to the three channel values.
+struct Photometer {
+  const WavelengthGrid& grid;
+  bool rgb;
+  std::array<double, 3> channels(const std::vector<double>& s) const { return {s[0], s[1], s[2]}; }
+  Xyz xyz(const std::vector<double>& s) const {
+    return rgb ? xyz_from_rgb_channels(channels(s)) : tristimulus(s, grid);
+  }
+  double luminous(const std::vector<double>& s) const {
+    return rgb ? xyz_from_rgb_channels(channels(s)).Y : luminous_integral(s, grid);
+  }
+  std::optional<Melanopic> melanopic(const std::vector<double>& E) const {
+    if (rgb) return std::nullopt;
+    const double E_mel = melanopic_integral(E, grid);
+    return Melanopic{E_mel, melanopic_edi_lx(E_mel)};
+  }
+};
+
+}  // namespace
 
 Report make_report(const Scene& scene, const Solution& sol) {
   Report report;
   const std::size_t N = sol.patches.size(), W = sol.wavelengths();
   const WavelengthGrid& grid = sol.grid;
+  const Photometer photometer{grid, scene.mode == SpectrumMode::Rgb};
   report.patches.resize(N);
   double white_Y = 0;  // display white: the brightest patch that does not emit
   std::vector<double> B(W), H(W), L(W);
@@ -19,8 +44,9 @@ Report make_report(const Scene& scene, const Solution& sol) {
       H[w] = sol.irradiance[i * W + w];
       L[w] = sol.radiosity[i * W + w] / kPi;  // Lambertian: L = B / (π ω0)
     }
-    p.illuminance_lx = luminous_integral(H, grid);
-    p.xyz = tristimulus(L, grid);
+    p.illuminance_lx = photometer.luminous(H);
+    p.melanopic = photometer.melanopic(H);
+    p.xyz = photometer.xyz(L);
     p.luminance_cd_m2 = p.xyz.Y;
     p.xy = chromaticity_xy(p.xyz);
     p.rgb_ebu = xyz_to_linear_ebu_rgb(p.xyz);
@@ -48,6 +74,11 @@ Report make_report(const Scene& scene, const Solution& sol) {
     out.area_m2 += A;
     out.illuminance_mean_lx += A * p.illuminance_lx;
     out.luminance_mean_cd_m2 += A * p.luminance_cd_m2;
+    if (p.melanopic) {
+      if (!out.melanopic_mean) out.melanopic_mean = Melanopic{};
+      out.melanopic_mean->irradiance_W_m2 += A * p.melanopic->irradiance_W_m2;
+      out.melanopic_mean->edi_lx += A * p.melanopic->edi_lx;
+    }
     out.illuminance_min_lx = std::min(out.illuminance_min_lx, p.illuminance_lx);
     out.illuminance_max_lx = std::max(out.illuminance_max_lx, p.illuminance_lx);
     for (std::size_t w = 0; w < W; ++w) {
@@ -62,6 +93,10 @@ Report make_report(const Scene& scene, const Solution& sol) {
     }
     out.illuminance_mean_lx /= out.area_m2;
     out.luminance_mean_cd_m2 /= out.area_m2;
+    if (out.melanopic_mean) {
+      out.melanopic_mean->irradiance_W_m2 /= out.area_m2;
+      out.melanopic_mean->edi_lx /= out.area_m2;
+    }
     for (std::size_t w = 0; w < W; ++w) {
       out.radiosity_mean[w] /= out.area_m2;
       out.irradiance_mean[w] /= out.area_m2;
@@ -76,7 +111,8 @@ Report make_report(const Scene& scene, const Solution& sol) {
     std::vector<double> e(W);
     for (std::size_t q = 0; q < points; ++q) {
       std::copy(E.begin() + q * W, E.begin() + (q + 1) * W, e.begin());
-      out.illuminance_lx.push_back(luminous_integral(e, grid));
+      out.illuminance_lx.push_back(photometer.luminous(e));
+      if (const auto mel = photometer.melanopic(e)) out.melanopic.push_back(*mel);
     }
     if (points == 0) continue;
     const auto [lo, hi] = std::minmax_element(out.illuminance_lx.begin(), out.illuminance_lx.end());

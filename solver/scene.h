@@ -14,6 +14,9 @@
 
 namespace lambert {
 
+// Rgb: the three-sample model (solver/rgb_model.h). The grid then has three channels R, G, B, and
+// every per-"wavelength" vector below holds channel values instead: O_c for a reflectance (which may
+// leave [0, 1]), I_c for an emission or light (which may be negative).
 enum class SpectrumMode { Spectral, Rgb };
 
 struct Material {

@@ -14,8 +14,9 @@
 namespace lambert {
 namespace {
 
-// Defines kCmf1nm[][4] = {nm, xbar, ybar, zbar} and kD65_1nm[][2] = {nm, S}, generated at build
-// time from solver/data/*.csv by tools/embed_cie_tables.cmake (which also checks the 1 nm spacing).
+// Defines kCmf1nm[][4] = {nm, xbar, ybar, zbar}, kD65_1nm[][2] = {nm, S} and kMelanopic1nm[][2] =
+// {nm, s_mel}, generated at build time from solver/data/*.csv by tools/embed_cie_tables.cmake
+// (which also checks the 1 nm spacing).
 #include "cie_tables.inc"
 
 constexpr std::size_t kCmfRows = std::size(kCmf1nm);
@@ -24,6 +25,9 @@ static_assert(kCmf1nm[0][0] == 360.0 && kCmf1nm[kCmfRows - 1][0] == 830.0,
               "the CIE 1931 table must span 360-830 nm");
 static_assert(kD65_1nm[0][0] == 300.0 && kD65_1nm[kD65Rows - 1][0] == 830.0,
               "the D65 table must span 300-830 nm");
+constexpr std::size_t kMelanopicRows = std::size(kMelanopic1nm);
+static_assert(kMelanopic1nm[0][0] == 380.0 && kMelanopic1nm[kMelanopicRows - 1][0] == 780.0,
+              "the CIE S 026 melanopic table must span 380-780 nm");
 
 // CODATA 2018 exact SI defining constants.
 constexpr double kPlanck_J_s = 6.62607015e-34;
@@ -184,6 +188,7 @@ constexpr Matrix3 kXyzToEbu =
 // IEC 61966-2-1:1999 (sRGB) = ITU-R BT.709 primaries.
 constexpr Matrix3 kXyzToSrgb =
     xyz_to_rgb_matrix({0.64, 0.33}, {0.30, 0.60}, {0.15, 0.06}, kWhiteD65);
+constexpr Matrix3 kEbuToXyz = inverse(kXyzToEbu);
 
 std::array<double, 3> apply(const Matrix3& m, const Xyz& c) {
   return {m[0][0] * c.X + m[0][1] * c.Y + m[0][2] * c.Z,
@@ -338,12 +343,34 @@ std::array<double, 3> xyz_to_linear_ebu_rgb(const Xyz& c) { return apply(kXyzToE
 
 std::array<double, 3> xyz_to_linear_srgb(const Xyz& c) { return apply(kXyzToSrgb, c); }
 
+Xyz linear_ebu_rgb_to_xyz(const std::array<double, 3>& rgb) {
+  const std::array<double, 3> c = apply(kEbuToXyz, {rgb[0], rgb[1], rgb[2]});
+  return {c[0], c[1], c[2]};
+}
+
 // IEC 61966-2-1:1999 §5.2 (the encoding half of the sRGB transfer function).
 double srgb_encode(double linear) {
   if (!(linear > 0.0)) return 0.0;  // also maps NaN to 0
   if (linear >= 1.0) return 1.0;
   if (linear <= 0.0031308) return 12.92 * linear;
   return 1.055 * std::pow(linear, 1.0 / 2.4) - 0.055;
+}
+
+// ---- CIE S 026 melanopic ----
+
+double cie_s026_melanopic(double nm) { return interpolate_1nm(kMelanopic1nm, 1, nm); }
+
+double melanopic_integral(const std::vector<double>& s, const WavelengthGrid& grid) {
+  require_same_size(s, grid, "melanopic_integral");
+  double sum = 0.0;
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    sum += grid.weight_nm[i] * cie_s026_melanopic(grid.nm[i]) * s[i];
+  }
+  return sum;
+}
+
+double melanopic_edi_lx(double melanopic_irradiance_W_m2) {
+  return melanopic_irradiance_W_m2 / kMelanopicEfficacyD65_W_lm;
 }
 
 }  // namespace lambert

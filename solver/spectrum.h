@@ -63,6 +63,20 @@ std::array<double, 2> chromaticity_xy(const Xyz& c);     // (x, y); (0,0) for bl
 // Linear RGB from XYZ for two primary sets, both with D65 white (X,Y,Z of D65 with Y = 1 -> (1,1,1)).
 std::array<double, 3> xyz_to_linear_ebu_rgb(const Xyz& c);   // EBU Tech 3213 primaries
 std::array<double, 3> xyz_to_linear_srgb(const Xyz& c);      // IEC 61966-2-1 primaries
+Xyz linear_ebu_rgb_to_xyz(const std::array<double, 3>& rgb);  // the inverse of xyz_to_linear_ebu_rgb
 double srgb_encode(double linear);                           // IEC 61966-2-1 transfer, clamped to [0,1]
+
+// ---- CIE S 026:2018 melanopic quantities (ipRGC-influenced responses to light) ----
+// s_mel(λ): the melanopic action spectrum, 1 at its peak (490 nm), linear between the standard's
+// 1 nm samples, 0 outside 380-780 nm (where the standard defines no value).
+double cie_s026_melanopic(double nm);
+// K_mel,v^D65: the melanopic efficacy of luminous radiation of CIE D65, 1.3262 mW/lm (CIE S 026:2018).
+inline constexpr double kMelanopicEfficacyD65_W_lm = 1.3262e-3;
+// Σ w s_mel s: the melanopic irradiance E_mel [W m^-2] of a spectral irradiance s [W m^-2 nm^-1]
+// (or the melanopic radiance of a spectral radiance).
+double melanopic_integral(const std::vector<double>& s, const WavelengthGrid& grid);
+// Melanopic equivalent daylight (D65) illuminance [lx] = E_mel / K_mel,v^D65: the illuminance of D65
+// light that has the same melanopic irradiance.
+double melanopic_edi_lx(double melanopic_irradiance_W_m2);
 
 }  // namespace lambert

@@ -1,0 +1,59 @@
+// The light interface (pbrt/Mitsuba style): one model per file under solver/lights/, built from the
+// scene's Light by make_light_model. Every model is linear in its spectrum S(λ): E(λ) = g · S(λ), with
+// a purely geometric factor g computed here.
+//   - point-like sources (point, goniometric, spot, Warn): S = I_0(λ) [W sr^-1 nm^-1], g in sr m^-2;
+//   - directional and ambient light: S = irradiance [W m^-2 nm^-1], g dimensionless;
+//   - a Phong-lobed emitting patch: S = exitance R(λ) [W m^-2 nm^-1], g dimensionless.
+// Measures: point_factor is per unit area at a point; patch_factor is the area average over a
+// triangle (the flux onto it per unit S, divided by its area); flux_factor is the flux the source
+// emits per unit S (sr for intensity sources, m² for an emitting patch).
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "mesh/geometry.h"
+#include "solver/scene.h"
+#include "solver/visibility.h"
+
+namespace lambert {
+
+class LightModel {
+ public:
+  virtual ~LightModel() = default;
+
+  // S(λ) on the scene's wavelength grid.
+  virtual const std::vector<double>& spectrum() const = 0;
+
+  // g at a point p with unit normal n, unshadowed (no ray): the model's closed form.
+  virtual double unshadowed_factor(const Point3& p, const Vector3& n) const = 0;
+
+  // g at p, shadowed with rays where the model says so (a probe).
+  virtual double point_factor(const Point3& p, const Vector3& n, const Visibility& vis) const = 0;
+
+  // Area average of g over triangle t (front side counter-clockwise), times the kernel-weighted visible
+  // fraction of the source seen from t.
+  virtual double patch_factor(const Triangle& t, const Visibility& vis) const = 0;
+
+  // Flux emitted per unit of S. Zero for directional and ambient light, whose flux depends on the
+  // scene they fall on; positive for every source whose emitted flux is known (the energy balance
+  // counts what such a source delivers to no patch as escaped).
+  virtual double flux_factor() const = 0;
+};
+
+std::unique_ptr<LightModel> make_light_model(const Light& light);
+
+// The factories behind make_light_model, one per model file in solver/lights/.
+std::unique_ptr<LightModel> make_ambient_light(const AmbientLight& light);          // ambient.cpp
+std::unique_ptr<LightModel> make_directional_light(const DirectionalLight& light);  // directional.cpp
+std::unique_ptr<LightModel> make_point_light(const PointLight& light);        // point.cpp: Kind::Point
+std::unique_ptr<LightModel> make_goniometric_light(const PointLight& light);  // goniometric.cpp: also Warn
+std::unique_ptr<LightModel> make_spot_light(const PointLight& light);         // spot.cpp
+
+// A Phong-lobed emitting patch (SPEC §1): dI/dA(ψ) = R (n+1)/(2π ω0) cos^n ψ, ψ from the patch's
+// normal, n ≥ 1, so that it emits exactly R [W m^-2]. Used by the solve for lobe exponents ≠ 1: its
+// emission reaches other patches and probes as direct irradiance.
+std::unique_ptr<LightModel> make_phong_emitter(const Triangle& emitter, double lobe_exponent,
+                                               std::vector<double> exitance_W_m2_nm);
+
+}  // namespace lambert

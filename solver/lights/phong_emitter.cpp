@@ -1,0 +1,162 @@
+// Phong-lobed emitting patch (SPEC §1 "Light models"): intensity per unit area
+//   dI/dA(ψ) = R (n+1)/(2π ω0) cos^n ψ,   ψ from the patch's normal, n ≥ 1,
+// so that the patch emits exactly R [W m^-2] (∫ (n+1)/(2π) cos^n ψ dω over the hemisphere is 1).
+// Its irradiance at a receiving point p (normal n_p):
+//   E(p) = R (n+1)/(2π) ∫_{emitter} cos^n ψ cos α / r² dA_q.
+// - At a point: in p's directions ω the emitter is a spherical polygon and ψ is the angle between −ω
+//   and the emitter's normal; with dω = cos ψ dA/r², E(p) = R (n+1)/(2π) ∫_{Ω(emitter)} cos^{n−1} ψ
+//   (n_p·ω) dω: the cone integral about −normal with the receiver's cosine as the weight, after
+//   clipping the emitter at p's horizon.
+// - Over a receiving patch: each emitter point q is a cos^n point source aimed along the normal; the
+//   flux it sends into the patch is the exact cone integral, and the emitter's area is integrated by
+//   adaptive cubature (refined where the integrand's estimate changes, as for form factors). For n = 1
+//   this is A_i F_ij, the Lambertian form factor, computed by another route.
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include "solver/cubature.h"
+#include "solver/lights/point_like.h"
+#include "solver/visible_fraction.h"
+
+namespace lambert {
+namespace {
+
+// Accuracy of a receiving patch's average: the cubature over the emitter refines 1:4 (to kMaxDepth
+// levels) until children and parent agree within kRelTolerance; each node's cone integral is
+// computed to kConeTolerance.
+constexpr double kRelTolerance = 1e-5;
+constexpr int kMaxDepth = 8;
+constexpr double kConeTolerance = 1e-7;
+
+double bounding_radius(const Triangle& t) {
+  const Point3 c = t.centroid();
+  return std::max({distance(c, t.v[0]), distance(c, t.v[1]), distance(c, t.v[2])});
+}
+
+// Whether any vertex of b lies strictly in front of the plane of a (normal na).
+bool any_in_front(const Triangle& a, const Vector3& na, const Triangle& b) {
+  const double scale = a.max_edge_length() + b.max_edge_length();
+  return std::any_of(b.v.begin(), b.v.end(), [&](const Point3& v) { return dot(v - a.v[0], na) > 1e-12 * scale; });
+}
+
+// The part of triangle t with (X − p)·n ≥ 0 (Sutherland–Hodgman); at most 4 vertices.
+int clip_above(const Triangle& t, const Point3& p, const Vector3& n, std::array<Point3, 4>& out) {
+  int count = 0;
+  for (int i = 0; i < 3; ++i) {
+    const Point3& a = t.v[i];
+    const Point3& b = t.v[(i + 1) % 3];
+    const double da = dot(a - p, n), db = dot(b - p, n);
+    if (da >= 0) out[count++] = a;
+    if ((da >= 0) != (db >= 0)) out[count++] = a + (b - a) * (da / (da - db));
+  }
+  return count;
+}
+
+// ∫_t f dA refined uniformly to min_depth levels (so that no sub-triangle is much larger than the
+// receiver, whose beam footprint a narrow lobe draws on the emitter), then adaptively.
+template <class F>
+double integrate_graded(const Triangle& t, F& f, int min_depth, double rel_tolerance, double abs_tolerance) {
+  if (min_depth > 0) {
+    double sum = 0;
+    for (const Triangle& c : split4(t)) sum += integrate_graded(c, f, min_depth - 1, rel_tolerance, abs_tolerance / 4);
+    return sum;
+  }
+  const double coarse = apply_rule(triangle_rule_degree5(), t, f);
+  return integrate_adaptive(t, f, coarse, std::max(abs_tolerance, rel_tolerance * std::abs(coarse)), kMaxDepth);
+}
+
+class PhongEmitterModel final : public LightModel {
+ public:
+  PhongEmitterModel(const Triangle& t, double n, std::vector<double> exitance)
+      : emitter_(t), lobe_{t.normal(), n, kPi / 2}, area_(t.area()), exitance_(std::move(exitance)) {}
+
+  const std::vector<double>& spectrum() const override { return exitance_; }
+
+  double unshadowed_factor(const Point3& p, const Vector3& n) const override {
+    if (dot(p - emitter_.v[0], lobe_.axis) <= 0) return 0;  // behind the emitter or in its plane
+    std::array<Point3, 4> visible_part;
+    const int count = clip_above(emitter_, p, n, visible_part);
+    if (count < 3) return 0;
+    // dA at the emitter subtends dω = cos ψ dA / r² at p, so the lobe in p's solid angle is cos^{n−1}.
+    const ConeLobe seen_from_p{-lobe_.axis, lobe_.exponent - 1, kPi / 2};
+    return normalisation() * cone_integral(p, seen_from_p, std::span<const Point3>(visible_part.data(), count),
+                                           [&](const Vector3& w) { return std::max(0.0, dot(n, w)); });
+  }
+
+  double point_factor(const Point3& p, const Vector3& n, const Visibility& vis) const override {
+    const double g = unshadowed_factor(p, n);
+    if (g == 0) return 0;
+    return g * weighted_visible_fraction(
+                   vis, [&](int k) { return std::pair{p, visibility_sample(emitter_, k)}; },
+                   [&](const Point3&, const Point3& q) { return kernel(q, p, n); });
+  }
+
+  double patch_factor(const Triangle& t, const Visibility& vis) const override {
+    const Vector3 nt = t.normal();
+    if (!any_in_front(emitter_, lobe_.axis, t) || !any_in_front(t, nt, emitter_) || beyond_lobe(t)) return 0;
+    // Flux into t from the emitter's point q, per unit of (n+1)/(2π) R dA_q.
+    auto flux_from = [&](const Point3& q) {
+      return dot(q - t.v[0], nt) > 0 ? cone_integral(q, lobe_, t.v, {}, kConeTolerance) : 0.0;
+    };
+    // Far apart, relative to the lobe's width ~ 1/sqrt(n), the degree-5 rule alone is accurate (as
+    // for the Lambertian form factors, to which this reduces at n = 1).
+    const double separation = distance(emitter_.centroid(), t.centroid()) / (bounding_radius(emitter_) + bounding_radius(t));
+    double G;
+    if (separation > 4 * std::sqrt(std::max(1.0, lobe_.exponent))) {
+      G = apply_rule(triangle_rule_degree5(), emitter_, flux_from);
+    } else {
+      const double ratio = emitter_.max_edge_length() / t.max_edge_length();
+      const int min_depth = lobe_.exponent > 8 ? std::clamp(static_cast<int>(std::ceil(std::log2(ratio))), 0, 4) : 0;
+      G = integrate_graded(emitter_, flux_from, min_depth, kRelTolerance, 1e-12 * area_);
+    }
+    const double average = normalisation() * G / t.area();
+    if (!(average > 0)) return 0;
+    return average * weighted_visible_fraction(
+                         vis,
+                         [&](int k) {
+                           return std::pair{visibility_sample(emitter_, k),
+                                            visibility_sample(t, (37 * k + 11) % kMaxVisibilitySamples)};
+                         },
+                         [&](const Point3& q, const Point3& p) { return kernel(q, p, nt); });
+  }
+
+  double flux_factor() const override { return area_; }
+
+ private:
+  double normalisation() const { return (lobe_.exponent + 1) / (2 * kPi); }
+
+  // Every direction from the emitter to t lies within asin(R/d) of the centroids' direction (R: the
+  // sum of the bounding radii, d: the centroids' distance), so it makes at least ψ_min with the
+  // normal. A narrow lobe with cos^n ψ_min < e^-70 sends t nothing measurable.
+  bool beyond_lobe(const Triangle& t) const {
+    const Vector3 d = t.centroid() - emitter_.centroid();
+    const double dist = length(d), R = bounding_radius(emitter_) + bounding_radius(t);
+    if (dist <= R) return false;
+    const double psi_min = std::acos(std::clamp(dot(lobe_.axis, d) / dist, -1.0, 1.0)) - std::asin(R / dist);
+    return psi_min > 0 && (psi_min >= kPi / 2 || lobe_.exponent * std::log(std::cos(psi_min)) < -70);
+  }
+
+  // cos^n ψ cos α / r² between the emitter's point q and a receiving point p (normal np): the weight
+  // of a visibility ray.
+  double kernel(const Point3& q, const Point3& p, const Vector3& np) const {
+    const Vector3 d = p - q;
+    const double r2 = length_squared(d), r = std::sqrt(r2);
+    if (r == 0) return 0;
+    return cone_lobe_value(lobe_, dot(lobe_.axis, d) / r) * std::max(0.0, -dot(np, d)) / (r * r2);
+  }
+
+  Triangle emitter_;
+  ConeLobe lobe_;  // about the emitter's normal
+  double area_;
+  std::vector<double> exitance_;
+};
+
+}  // namespace
+
+std::unique_ptr<LightModel> make_phong_emitter(const Triangle& emitter, double lobe_exponent,
+                                               std::vector<double> exitance_W_m2_nm) {
+  return std::make_unique<PhongEmitterModel>(emitter, lobe_exponent, std::move(exitance_W_m2_nm));
+}
+
+}  // namespace lambert

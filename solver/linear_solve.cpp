@@ -1,0 +1,182 @@
+// Lockstep restarted GMRES for many radiosity systems sharing F (see linear_solve.h).
+#include "solver/linear_solve.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "solver/radiosity.h"
+
+namespace lambert {
+namespace {
+
+constexpr int kRestart = 40;
+constexpr std::size_t kBatch = 16;  // systems per lockstep batch (bounds the Krylov memory)
+
+double norm(const double* v, std::size_t n) {
+  double s = 0;
+  for (std::size_t i = 0; i < n; ++i) s += v[i] * v[i];
+  return std::sqrt(s);
+}
+
+// Y[k] = V[k] − ρ_k ⊙ (F V[k]) for the systems in `batch`; V and Y hold one n-vector per system.
+void apply_batch(const std::vector<double>& F, std::size_t n, const std::vector<RadiositySystem*>& batch,
+                 const std::vector<const double*>& V, const std::vector<double*>& Y) {
+  const std::size_t K = batch.size();
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 16), [&](const auto& range) {
+    std::vector<double> acc(K);
+    for (std::size_t i = range.begin(); i != range.end(); ++i) {
+      std::fill(acc.begin(), acc.end(), 0.0);
+      const double* row = &F[i * n];
+      for (std::size_t j = 0; j < n; ++j) {
+        const double f = row[j];
+        if (f == 0) continue;
+        for (std::size_t k = 0; k < K; ++k) acc[k] += f * V[k][j];
+      }
+      for (std::size_t k = 0; k < K; ++k) Y[k][i] = V[k][i] - batch[k]->rho[i] * acc[k];
+    }
+  });
+}
+
+struct Krylov {
+  std::vector<std::vector<double>> V;   // kRestart + 1 basis vectors
+  std::vector<std::vector<double>> H;   // (kRestart + 1) × kRestart Hessenberg, rotated in place
+  std::vector<double> cs, sn, g, w;
+  double b_norm = 0, target = 0, beta = 0;
+  int m = 0;              // basis size in the current cycle
+  bool done = false;      // converged
+  bool cycle_open = false;
+  explicit Krylov(std::size_t n)
+      : V(kRestart + 1, std::vector<double>(n)), H(kRestart + 1, std::vector<double>(kRestart, 0.0)),
+        cs(kRestart), sn(kRestart), g(kRestart + 1), w(n) {}
+};
+
+void update_solution(Krylov& s, RadiositySystem& sys, std::size_t n) {
+  std::vector<double> y(s.m);
+  for (int i = s.m - 1; i >= 0; --i) {
+    double v = s.g[i];
+    for (int j = i + 1; j < s.m; ++j) v -= s.H[i][j] * y[j];
+    if (s.H[i][i] == 0) throw SolveError("the radiosity system is singular (reflectance 1 in a closed scene?)");
+    y[i] = v / s.H[i][i];
+  }
+  for (int i = 0; i < s.m; ++i)
+    for (std::size_t k = 0; k < n; ++k) sys.x[k] += y[i] * s.V[i][k];
+}
+
+void solve_batch(const std::vector<double>& F, std::size_t n, std::vector<RadiositySystem*>& batch, double tolerance,
+                 int max_iterations, const std::function<bool()>& cancelled) {
+  std::vector<Krylov> state;
+  state.reserve(batch.size());
+  for (RadiositySystem* sys : batch) {
+    Krylov& s = state.emplace_back(n);
+    s.b_norm = norm(sys->b.data(), n);
+    // |ρ|: in rgb mode (solver/rgb_model.h) channel reflectances are signed and may exceed 1. For
+    // |ρ| ≥ 1 there is no a-priori bound; ask for a residual 1e6 below the tolerance, which GMRES
+    // reaches in double precision unless the system is singular (ρ = 1 in a closed scene).
+    double rho_max = 0;
+    for (double r : sys->rho) rho_max = std::max(rho_max, std::abs(r));
+    const double kappa = rho_max < 1 ? (1 + rho_max) / (1 - rho_max) : 1e6;
+    s.target = tolerance / kappa;
+    if (s.b_norm == 0) {
+      std::fill(sys->x.begin(), sys->x.end(), 0.0);
+      s.done = true;
+    }
+  }
+  std::vector<RadiositySystem*> live;
+  std::vector<const double*> in;
+  std::vector<double*> out;
+  for (int iteration = 0;; ++iteration) {
+    if (cancelled && cancelled()) throw SolveCancelled();
+    // Systems that start a cycle need their true residual r = b − A x first (one batched product).
+    live.clear(), in.clear(), out.clear();
+    for (std::size_t k = 0; k < batch.size(); ++k)
+      if (!state[k].done && !state[k].cycle_open) {
+        live.push_back(batch[k]);
+        in.push_back(batch[k]->x.data());
+        out.push_back(state[k].w.data());
+      }
+    if (!live.empty()) apply_batch(F, n, live, in, out);
+    for (std::size_t k = 0; k < batch.size(); ++k) {
+      Krylov& s = state[k];
+      if (s.done || s.cycle_open) continue;
+      RadiositySystem& sys = *batch[k];
+      for (std::size_t i = 0; i < n; ++i) s.V[0][i] = sys.b[i] - s.w[i];
+      s.beta = norm(s.V[0].data(), n);
+      sys.residual = s.beta / s.b_norm;
+      if (sys.residual <= s.target) {
+        s.done = true;
+        continue;
+      }
+      if (sys.iterations >= max_iterations)
+        throw SolveError("the radiosity solve did not converge in " + std::to_string(max_iterations) +
+                         " iterations (relative residual " + std::to_string(sys.residual) +
+                         "; is the reflectance 1 in a closed scene?)");
+      for (double& v : s.V[0]) v /= s.beta;
+      std::fill(s.g.begin(), s.g.end(), 0.0);
+      s.g[0] = s.beta;
+      s.m = 0;
+      s.cycle_open = true;
+    }
+    // One Arnoldi step for every open cycle, with one batched product.
+    live.clear(), in.clear(), out.clear();
+    std::vector<std::size_t> index;
+    for (std::size_t k = 0; k < batch.size(); ++k)
+      if (!state[k].done && state[k].cycle_open) {
+        live.push_back(batch[k]);
+        in.push_back(state[k].V[state[k].m].data());
+        out.push_back(state[k].w.data());
+        index.push_back(k);
+      }
+    if (live.empty()) return;
+    apply_batch(F, n, live, in, out);
+    for (std::size_t k : index) {
+      Krylov& s = state[k];
+      RadiositySystem& sys = *batch[k];
+      const int m = s.m;
+      for (int i = 0; i <= m; ++i) {  // modified Gram–Schmidt
+        double h = 0;
+        for (std::size_t q = 0; q < n; ++q) h += s.w[q] * s.V[i][q];
+        s.H[i][m] = h;
+        for (std::size_t q = 0; q < n; ++q) s.w[q] -= h * s.V[i][q];
+      }
+      const double h_next = norm(s.w.data(), n);
+      if (h_next > 0)
+        for (std::size_t q = 0; q < n; ++q) s.V[m + 1][q] = s.w[q] / h_next;
+      for (int i = 0; i < m; ++i) {  // previous Givens rotations on the new column
+        const double t = s.cs[i] * s.H[i][m] + s.sn[i] * s.H[i + 1][m];
+        s.H[i + 1][m] = -s.sn[i] * s.H[i][m] + s.cs[i] * s.H[i + 1][m];
+        s.H[i][m] = t;
+      }
+      const double r = std::hypot(s.H[m][m], h_next);
+      s.cs[m] = r > 0 ? s.H[m][m] / r : 1;
+      s.sn[m] = r > 0 ? h_next / r : 0;
+      s.H[m][m] = r;
+      s.g[m + 1] = -s.sn[m] * s.g[m];
+      s.g[m] = s.cs[m] * s.g[m];
+      s.m = m + 1;
+      ++sys.iterations;
+      const double estimate = std::abs(s.g[m + 1]) / s.b_norm;
+      if (estimate <= s.target || h_next == 0 || s.m == kRestart || sys.iterations >= max_iterations) {
+        update_solution(s, sys, n);
+        s.cycle_open = false;  // the next pass checks the true residual
+      }
+    }
+    (void)iteration;
+  }
+}
+
+}  // namespace
+
+void solve_radiosity_systems(const std::vector<double>& F, std::size_t n, std::vector<RadiositySystem>& systems,
+                             double tolerance, int max_iterations, const std::function<bool()>& cancelled) {
+  for (std::size_t start = 0; start < systems.size(); start += kBatch) {
+    std::vector<RadiositySystem*> batch;
+    for (std::size_t k = start; k < std::min(systems.size(), start + kBatch); ++k) batch.push_back(&systems[k]);
+    solve_batch(F, n, batch, tolerance, max_iterations, cancelled);
+  }
+}
+
+}  // namespace lambert

@@ -1,0 +1,27 @@
+// The radiosity linear systems (I − diag(ρ_k) F) B_k = b_k, one per distinct spectral system k, all
+// sharing the form-factor matrix F. They are solved together by restarted GMRES in lockstep, so that
+// each iteration streams F from memory once for every system (a matrix–matrix product) instead of
+// once per system: F is the large operand, and spectral scenes have tens of systems.
+#pragma once
+
+#include <functional>
+#include <vector>
+
+namespace lambert {
+
+struct RadiositySystem {
+  std::vector<double> rho;   // ρ_i of the unknowns (size n)
+  std::vector<double> b;     // right-hand side (size n)
+  std::vector<double> x;     // in: starting guess (size n); out: the solution
+  int iterations = 0;        // out
+  double residual = 0;       // out: final ‖b − A x‖ / ‖b‖
+};
+
+// F: n×n row-major (row sums ≤ 1). Each system stops when its relative residual bounds its relative
+// error below `tolerance` (‖e‖/‖x‖ ≤ κ ‖r‖/‖b‖ with κ ≤ (1 + ρ_max)/(1 − ρ_max)). Throws SolveError
+// (solver/radiosity.h) if a system does not converge in max_iterations, SolveCancelled if
+// `cancelled()` becomes true.
+void solve_radiosity_systems(const std::vector<double>& F, std::size_t n, std::vector<RadiositySystem>& systems,
+                             double tolerance, int max_iterations, const std::function<bool()>& cancelled);
+
+}  // namespace lambert

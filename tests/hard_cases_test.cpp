@@ -1,0 +1,100 @@
+// Numerically hard configurations (issue 4 §6), each against a closed form or an invariance:
+// nearly touching plates, reflectance 0.999, slivers, tiny and huge scales, geo-referenced
+// coordinates, a mis-oriented wall (reported light leak).
+#include <gtest/gtest.h>
+
+#include "solver/radiosity.h"
+#include "tests/scene_builder.h"
+
+namespace lambert {
+namespace {
+
+using test::box;
+using test::rectangle;
+using test::SceneBuilder;
+
+double surface_mean(const Solution& sol, int surface, const std::vector<double>& values) {
+  double sum = 0, area = 0;
+  for (std::size_t i = 0; i < sol.patches.size(); ++i) {
+    if (sol.patches[i].surface != surface) continue;
+    sum += sol.patches[i].area_m2 * values[i * sol.wavelengths()];
+    area += sol.patches[i].area_m2;
+  }
+  return sum / area;
+}
+
+// Opposed a×b rectangles at distance c, origin shifted by `offset` and all lengths scaled by `scale`:
+// the black receiver's mean irradiance is M F21 = C-11(a/c, b/c) whatever the shift and scale.
+double opposed_plates(double a, double b, double c, double scale, const Vector3& offset,
+                      std::optional<double> max_patch_area = std::nullopt) {
+  SceneBuilder builder;
+  const int black = builder.material("black", 0.0);
+  const Point3 o = Point3{0, 0, 0} + offset;
+  builder.surface("emitter", black, rectangle(o + Vector3{0, 0, c * scale}, {0, b * scale, 0}, {a * scale, 0, 0}), 1.0);
+  builder.surface("receiver", black, rectangle(o, {a * scale, 0, 0}, {0, b * scale, 0}));
+  if (max_patch_area) builder.max_patch_area(*max_patch_area * scale * scale);
+  const Solution sol = solve(builder.scene());
+  return surface_mean(sol, 1, sol.irradiance);
+}
+
+TEST(HardCases, NearlyTouchingPlates) {
+  // Plates 1 % of their size apart: C-11 with X = Y = 100.
+  const double F = test::howell_c11(100, 100);
+  EXPECT_NEAR(opposed_plates(1, 1, 0.01, 1, {}), F, 1e-3 * F);
+}
+
+TEST(HardCases, SliversAspect100) {
+  // A 10 m × 0.1 m strip over its twin at 0.1 m: X = 100, Y = 1; patches are long slivers.
+  const double F = test::howell_c11(100, 1);
+  EXPECT_NEAR(opposed_plates(10, 0.1, 0.1, 1, {}, 0.05), F, 1e-3 * F);
+}
+
+TEST(HardCases, TinyAndHugeScalesGiveTheSameFactor) {
+  const double F = test::howell_c11(1, 1);  // 0.1998248957
+  for (double scale : {1e-4, 1e-2, 1e2, 1e4}) EXPECT_NEAR(opposed_plates(1, 1, 1, scale, {}), F, 1e-4 * F) << scale;
+}
+
+TEST(HardCases, GeoReferencedCoordinates) {
+  // A scene at x ≈ 5e5, y ≈ 5.5e6 m gives the answer it gives at the origin (Embree works re-centred
+  // in float; the kernel works in double on differences).
+  const double at_origin = opposed_plates(1, 1, 1, 1, {});
+  const double far_away = opposed_plates(1, 1, 1, 1, {512345.678, 5523456.789, 0});
+  EXPECT_NEAR(far_away, at_origin, 1e-7 * at_origin);
+
+  SceneBuilder b;
+  const int m = b.material("grey", 0.8);
+  const Point3 o{512345.678, 5523456.789, 100};
+  b.surface("room", m, box(o, o + Vector3{4, 3, 2.5}, true), 1.0);
+  b.surface("obstacle", m, box(o + Vector3{1.5, 1, 0.8}, o + Vector3{2.5, 2, 1.6}, false), 1.0);
+  const Solution sol = solve(b.scene());
+  for (double B : sol.radiosity) ASSERT_NEAR(B, 5.0, 5e-4);  // furnace: M/(1 − ρ)
+  EXPECT_TRUE(sol.warnings.empty());
+}
+
+TEST(HardCases, ReflectanceNearOneConvergesFast) {
+  // R1 with ρ = 0.999: B = 1000 M, in few iterations (GMRES, not ρ^k Jacobi sweeps).
+  SceneBuilder b;
+  const int m = b.material("white", 0.999);
+  b.surface("room", m, box({0, 0, 0}, {2, 2, 2}, true), 1.0);
+  b.surface("obstacle", m, box({0.5, 0.5, 0.5}, {1.2, 1.4, 1.0}, false), 1.0);
+  b.scene().solver.tolerance = 1e-6;
+  const Solution sol = solve(b.scene());
+  for (double B : sol.radiosity) ASSERT_NEAR(B, 1000.0, 1000 * 1e-4);
+  EXPECT_LT(sol.stats.iterations, 200);
+}
+
+TEST(HardCases, MisorientedWallIsReportedAsALeak) {
+  // One wall of a closed room faces outwards: patches that see its back get a warning naming them.
+  SceneBuilder b;
+  const int m = b.material("grey", 0.5);
+  auto walls = box({0, 0, 0}, {2, 2, 2}, true);
+  for (std::size_t t = 0; t < 2; ++t) std::swap(walls[t].v[1], walls[t].v[2]);  // flip the floor
+  b.surface("room", m, walls, 1.0);
+  const Solution sol = solve(b.scene());
+  ASSERT_FALSE(sol.warnings.empty());
+  EXPECT_NE(sol.warnings[0].find("back of a surface"), std::string::npos) << sol.warnings[0];
+  for (double B : sol.radiosity) ASSERT_TRUE(std::isfinite(B) && B >= 0);
+}
+
+}  // namespace
+}  // namespace lambert

@@ -1,0 +1,76 @@
+// Google Benchmark for the inner kernels: point-to-triangle factor, patch-pair cubature (far, near,
+// touching), Embree visibility (single and stream). Not a test: speed figures belong here and in
+// docs/BENCHMARKS.md, never in timed unit tests.
+#include <benchmark/benchmark.h>
+
+#include <random>
+#include <vector>
+
+#include "solver/form_factor.h"
+#include "solver/visibility.h"
+#include "tests/scene_builder.h"
+
+namespace lambert {
+namespace {
+
+const Triangle kReceiver{{Point3{0, 0, 0}, Point3{0.05, 0, 0}, Point3{0, 0.05, 0}}};
+
+void BM_PointTriangleFactor(benchmark::State& state) {
+  const Triangle source{{Point3{0, 0, 1}, Point3{0, 0.1, 1}, Point3{0.1, 0, 1}}};
+  Point3 p{0.01, 0.02, 0};
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(point_triangle_factor(p, {0, 0, 1}, source));
+    p.x += 1e-9;
+  }
+}
+BENCHMARK(BM_PointTriangleFactor);
+
+void BM_AreaFormFactor(benchmark::State& state) {
+  // state.range(0): distance between the patches in units of 1 mm (patch size 50 mm).
+  const double h = state.range(0) * 1e-3;
+  const Triangle source{{Point3{0, 0, h}, Point3{0, 0.05, h}, Point3{0.05, 0, h}}};
+  for (auto _ : state) benchmark::DoNotOptimize(area_form_factor(kReceiver, source));
+}
+BENCHMARK(BM_AreaFormFactor)->Arg(1000)->Arg(200)->Arg(50)->Arg(5);
+
+void BM_AreaFormFactorTouching(benchmark::State& state) {
+  const Triangle wall{{Point3{0, 0, 0}, Point3{0, 0, 0.05}, Point3{0.05, 0, 0}}};
+  for (auto _ : state) benchmark::DoNotOptimize(area_form_factor(kReceiver, wall));
+}
+BENCHMARK(BM_AreaFormFactorTouching);
+
+std::vector<Triangle> room() { return test::box({0, 0, 0}, {4, 3, 2.5}, true); }
+
+void BM_VisibilitySingle(benchmark::State& state) {
+  const auto tris = room();
+  const Visibility vis(tris);
+  std::mt19937 rng(1);
+  std::uniform_real_distribution<double> u(0.1, 2.4);
+  std::vector<Segment> segments(4096);
+  for (auto& s : segments) s = {{u(rng), u(rng), u(rng)}, {u(rng), u(rng), u(rng)}};
+  std::size_t k = 0;
+  for (auto _ : state) {
+    const auto& s = segments[k++ % segments.size()];
+    benchmark::DoNotOptimize(vis.visible(s.from, s.to));
+  }
+  state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(BM_VisibilitySingle);
+
+void BM_VisibilityStream(benchmark::State& state) {
+  const auto tris = room();
+  const Visibility vis(tris);
+  std::mt19937 rng(1);
+  std::uniform_real_distribution<double> u(0.1, 2.4);
+  std::vector<Segment> segments(4096);
+  for (auto& s : segments) s = {{u(rng), u(rng), u(rng)}, {u(rng), u(rng), u(rng)}};
+  std::vector<std::uint8_t> out(segments.size());
+  for (auto _ : state) vis.visible(segments, out);
+  state.SetItemsProcessed(state.iterations() * segments.size());
+}
+BENCHMARK(BM_VisibilityStream);
+
+}  // namespace
+}  // namespace lambert
+
+BENCHMARK_MAIN();
