@@ -10,6 +10,9 @@
 
 #include "server/result_codec.h"
 #include "server/scene_codec.h"
+#include "server/bench_command.h"
+#include "server/compare_command.h"
+#include "server/serve_command.h"
 #include "solver/radiosity.h"
 #include "solver/report.h"
 
@@ -19,7 +22,11 @@ constexpr const char* kUsage =
     "usage:\n"
     "  lambert solve SCENE.json [-o RESULT.json]   solve; summary on stdout, progress on stderr (tty)\n"
     "  lambert check SCENE.json                    validate only: every problem with its JSON pointer\n"
-    "  lambert serve | render | bench              (not available in this version)\n";
+    "  lambert serve [--host 127.0.0.1] [--port 8080] [--threads N] [--data-dir DIR] [--mesh-root DIR]\n"
+    "                                              the HTTP service (lambert serve --help for every option)\n"
+    "  lambert bench [--quick] [-o BENCH.json]     speed against error on built-in reference scenes\n"
+    "  lambert compare-rgb SCENE.json [-o REPORT.json]  spectral against rgb mode: per-patch dE00 and lux\n"
+    "  lambert render                              (not available in this version)\n";
 
 int usage_error(const std::string& message) {
   std::cerr << "lambert: " << message << "\n" << kUsage;
@@ -130,7 +137,10 @@ int main(int argc, char** argv) {
     std::cout << kUsage;
     return 0;
   }
-  if (command == "serve" || command == "render" || command == "bench")
+  if (command == "serve") return lambert::run_serve(args);
+  if (command == "bench") return lambert::run_bench(args);
+  if (command == "compare-rgb") return lambert::run_compare_rgb(args);
+  if (command == "render")
     return usage_error("'" + command + "' is not available in this version");
   return usage_error("unknown command '" + command + "'");
 }

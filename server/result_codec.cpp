@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
+#include "solver/rgb_model.h"
+
 namespace lambert {
 namespace {
 
@@ -33,7 +35,17 @@ std::string encode_result(const Scene& scene, const Solution& sol, const Report&
   json out;
   out["lambert"] = 1;
   out["name"] = scene.name;
-  out["wavelengths_nm"] = sol.grid.nm;
+  // In rgb mode the three samples are channels, not wavelengths (solver/rgb_model.h): the result
+  // names them instead of listing their nominal wavelengths, and every spectral array ("radiosity",
+  // "irradiance", ...) holds the R, G, B channel values in that order (W m^-2 rather than per nm).
+  if (scene.mode == SpectrumMode::Rgb) {
+    out["mode"] = "rgb";
+    out["channels"] = json::array();
+    for (const char* channel : kRgbChannelNames) out["channels"].push_back(channel);
+  } else {
+    out["mode"] = "spectral";
+    out["wavelengths_nm"] = sol.grid.nm;
+  }
 
   json patches = json::array();
   for (std::size_t i = 0; i < sol.patches.size(); ++i) {
@@ -58,6 +70,10 @@ std::string encode_result(const Scene& scene, const Solution& sol, const Report&
     j["rgb_ebu"] = array_json(ph.rgb_ebu);
     j["srgb"] = array_json(ph.srgb);
     j["srgb_encoded"] = array_json(ph.srgb_encoded);
+    if (ph.melanopic) {
+      j["melanopic_irradiance_W_m2"] = ph.melanopic->irradiance_W_m2;
+      j["melanopic_edi_lx"] = ph.melanopic->edi_lx;
+    }
     patches.push_back(std::move(j));
   }
   out["patches"] = std::move(patches);
@@ -69,6 +85,10 @@ std::string encode_result(const Scene& scene, const Solution& sol, const Report&
     j["area"] = s.area_m2;
     j["illuminance_lx"] = {{"mean", s.illuminance_mean_lx}, {"min", s.illuminance_min_lx}, {"max", s.illuminance_max_lx}};
     j["luminance_cd_m2"] = s.luminance_mean_cd_m2;
+    if (s.melanopic_mean) {
+      j["melanopic_irradiance_W_m2"] = s.melanopic_mean->irradiance_W_m2;  // area-weighted means
+      j["melanopic_edi_lx"] = s.melanopic_mean->edi_lx;
+    }
     j["radiosity_mean"] = s.radiosity_mean;
     j["irradiance_mean"] = s.irradiance_mean;
     surfaces.push_back(std::move(j));
@@ -86,6 +106,10 @@ std::string encode_result(const Scene& scene, const Solution& sol, const Report&
       j["position"] = point_json(probe.points[0], scene.unit_m);
       j["irradiance"] = spectrum_json(E.data(), W);
       j["illuminance_lx"] = ps.illuminance_lx.at(0);
+      if (!ps.melanopic.empty()) {
+        j["melanopic_irradiance_W_m2"] = ps.melanopic.at(0).irradiance_W_m2;
+        j["melanopic_edi_lx"] = ps.melanopic.at(0).edi_lx;
+      }
     } else {
       json points = json::array();
       for (const Point3& p : probe.points) points.push_back(point_json(p, scene.unit_m));
@@ -93,6 +117,15 @@ std::string encode_result(const Scene& scene, const Solution& sol, const Report&
       j["nv"] = probe.nv;
       j["points"] = std::move(points);
       j["illuminance_lx"] = ps.illuminance_lx;
+      if (!ps.melanopic.empty()) {
+        json mel_irradiance = json::array(), mel_edi = json::array();
+        for (const Melanopic& m : ps.melanopic) {
+          mel_irradiance.push_back(m.irradiance_W_m2);
+          mel_edi.push_back(m.edi_lx);
+        }
+        j["melanopic_irradiance_W_m2"] = std::move(mel_irradiance);
+        j["melanopic_edi_lx"] = std::move(mel_edi);
+      }
       if (spectral) {
         json irr = json::array();
         for (std::size_t q = 0; q < probe.points.size(); ++q) irr.push_back(spectrum_json(&E[q * W], W));

@@ -25,6 +25,7 @@
 #include <nlohmann/json.hpp>
 
 #include "mesh/mesh_ops.h"
+#include "solver/rgb_model.h"
 
 namespace lambert {
 namespace {
@@ -599,6 +600,7 @@ DecodeResult Decoder::run(const json& doc, std::vector<DecodeError> prior_errors
 
   if (dropped_errors_ > 0)
     errors_.push_back({"", std::to_string(dropped_errors_) + " more errors not shown"});
+  if (errors_.empty() && scene_.mode == SpectrumMode::Rgb) reduce_scene_to_rgb(scene_);
   DecodeResult result;
   if (errors_.empty()) result.scene = std::move(scene_);
   result.errors = std::move(errors_);
@@ -709,13 +711,13 @@ void Decoder::decode_grid(const json* spec) {
   grid_ = WavelengthGrid::uniform(*from, *to, *step);
 }
 
-// The three-sample RGB model (SPEC §1 "mode": "rgb") is not implemented in this version. Replace
-// this function's body when it is: it should return the three-sample grid (and set scene_.mode).
+// The three-sample RGB model (SPEC §1 "mode": "rgb", solver/rgb_model.h): every spectrum is first
+// sampled and photometrically scaled on the fine reduction grid, exactly as in spectral mode; run()
+// then reduces the finished scene to the three EBU channels.
 std::optional<WavelengthGrid> Decoder::decode_rgb_mode(const json& spec) {
   unknown_keys(spec, "/spectrum", {"mode"});
-  error("/spectrum/mode",
-        "the three-sample RGB mode is not available yet in this version; use \"spectral\"");
-  return std::nullopt;
+  scene_.mode = SpectrumMode::Rgb;
+  return rgb_reduction_grid();
 }
 
 // ---- spectra ----------------------------------------------------------------------------------

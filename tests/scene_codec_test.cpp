@@ -519,9 +519,9 @@ TEST(SceneCodecErrors, UnsupportedVersion) {
   EXPECT_TRUE(HasError(scene_with(R"("lambert": 2)"), "/lambert", "unsupported format version 2"));
 }
 
-TEST(SceneCodecErrors, RgbModeNotAvailableYet) {
-  EXPECT_TRUE(HasError(scene_with(R"("spectrum": {"mode": "rgb"})"), "/spectrum/mode",
-                       "three-sample RGB mode is not available yet"));
+TEST(SceneCodecErrors, RgbModeTakesNoGrid) {  // the rgb model chooses its own internal grid
+  EXPECT_TRUE(HasError(scene_with(R"("spectrum": {"mode": "rgb", "step_nm": 5})"), "/spectrum/step_nm",
+                       "unknown key"));
 }
 
 TEST(SceneCodecErrors, ZeroLengthProbeNormal) {

@@ -1,6 +1,9 @@
 #!/usr/bin/env bash
-# Installs the Debian 12 packages Lambert builds with, if any is missing (apt-get; sudo when not root).
+# Installs what Lambert builds and tests with, if any of it is missing: the Debian 12 packages
+# (apt-get; sudo when not root), and the npm packages of the contract test (tests/schema_test.sh)
+# into tools/node_modules, exactly as pinned by tools/package-lock.json.
 set -euo pipefail
+cd "$(dirname "$0")/.."
 packages=(build-essential cmake ninja-build pkg-config
           libcgal-dev libopenmesh-dev libembree-dev libcpp-httplib-dev nlohmann-json3-dev
           libgtest-dev libbenchmark-dev)
@@ -8,12 +11,22 @@ missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
-if [ ${#missing[@]} -eq 0 ]; then
-  exit 0
+# Node.js: only when there is none (a machine may have its own build with npm bundled, which
+# Debian's separate npm package would conflict with).
+if ! command -v npm >/dev/null 2>&1; then
+  missing+=(nodejs npm)
 fi
-echo "installing: ${missing[*]}"
-sudo=""
-if [ "$(id -u)" -ne 0 ]; then sudo="sudo"; fi
-export DEBIAN_FRONTEND=noninteractive
-$sudo apt-get update -qq
-$sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "installing: ${missing[*]}"
+  sudo=""
+  if [ "$(id -u)" -ne 0 ]; then sudo="sudo"; fi
+  export DEBIAN_FRONTEND=noninteractive
+  $sudo apt-get update -qq
+  $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
+# npm ci reinstalls from the lockfile; skipped while node_modules is newer than the lockfile.
+if [ ! -f tools/node_modules/.package-lock.json ] ||
+   [ tools/package-lock.json -nt tools/node_modules/.package-lock.json ]; then
+  echo "installing npm packages into tools/node_modules"
+  npm ci --prefix tools --no-audit --no-fund --loglevel=error
+fi

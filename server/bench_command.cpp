@@ -1,0 +1,207 @@
+// `lambert bench`: built-in reference scenes with exact answers (REFERENCES.md), each solved at a
+// ladder of patch sizes; one table row per (scene, setting) with time, patches, rays, ray throughput,
+// peak memory and the error against the closed form. The scenes go through the same JSON decoder as
+// users' scenes, so the whole pipeline is measured.
+#include "server/bench_command.h"
+
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <functional>
+#include <iostream>
+#include <nlohmann/json.hpp>
+
+#include "server/scene_codec.h"
+#include "solver/radiosity.h"
+#include "solver/report.h"
+
+namespace lambert {
+namespace {
+
+using nlohmann::json;
+
+json rect(const std::array<double, 3>& o, const std::array<double, 3>& u, const std::array<double, 3>& v) {
+  auto add = [](auto a, auto b) { return std::array<double, 3>{a[0] + b[0], a[1] + b[1], a[2] + b[2]}; };
+  return json::array({o, add(o, u), add(add(o, u), v), add(o, v)});
+}
+
+// Axis-aligned box as an inline mesh (6 quads, 12 triangles), normals inward or outward.
+json box(const std::array<double, 3>& lo, const std::array<double, 3>& hi, bool inward) {
+  const double dx = hi[0] - lo[0], dy = hi[1] - lo[1], dz = hi[2] - lo[2];
+  struct Face { std::array<double, 3> o, u, v; };
+  const Face faces[] = {{lo, {dx, 0, 0}, {0, dy, 0}},           {{lo[0], lo[1], hi[2]}, {0, dy, 0}, {dx, 0, 0}},
+                        {lo, {0, 0, dz}, {dx, 0, 0}},           {{lo[0], hi[1], lo[2]}, {dx, 0, 0}, {0, 0, dz}},
+                        {lo, {0, dy, 0}, {0, 0, dz}},           {{hi[0], lo[1], lo[2]}, {0, 0, dz}, {0, dy, 0}}};
+  json vertices = json::array(), triangles = json::array();
+  for (const Face& f : faces) {
+    const int b = static_cast<int>(vertices.size());
+    for (const auto& p : inward ? rect(f.o, f.u, f.v) : rect(f.o, f.v, f.u)) vertices.push_back(p);
+    triangles.push_back({b, b + 1, b + 2});
+    triangles.push_back({b, b + 2, b + 3});
+  }
+  return {{"vertices", vertices}, {"triangles", triangles}};
+}
+
+// Howell C-11 and C-14 and B-3 (REFERENCES V3, V4, V1).
+double howell_c11(double X, double Y) {
+  const double x2 = X * X, y2 = Y * Y;
+  return 2 / (kPi * X * Y) *
+         (std::log(std::sqrt((1 + x2) * (1 + y2) / (1 + x2 + y2))) + X * std::sqrt(1 + y2) * std::atan(X / std::sqrt(1 + y2)) +
+          Y * std::sqrt(1 + x2) * std::atan(Y / std::sqrt(1 + x2)) - X * std::atan(X) - Y * std::atan(Y));
+}
+double howell_c14(double W, double H) {
+  const double w2 = W * W, h2 = H * H;
+  const double term = (1 + w2) * (1 + h2) / (1 + w2 + h2) * std::pow(w2 * (1 + w2 + h2) / ((1 + w2) * (w2 + h2)), w2) *
+                      std::pow(h2 * (1 + h2 + w2) / ((1 + h2) * (h2 + w2)), h2);
+  return 1 / (kPi * W) *
+         (W * std::atan(1 / W) + H * std::atan(1 / H) - std::sqrt(h2 + w2) * std::atan(1 / std::sqrt(h2 + w2)) +
+          0.25 * std::log(term));
+}
+double howell_b3(double X, double Y) {
+  return 1 / (2 * kPi) *
+         (X / std::sqrt(1 + X * X) * std::atan(Y / std::sqrt(1 + X * X)) +
+          Y / std::sqrt(1 + Y * Y) * std::atan(X / std::sqrt(1 + Y * Y)));
+}
+// Point facing +z at height h below an axis-aligned rectangle [x0,x1]×[y0,y1] (corner decomposition).
+double point_under_rectangle(double px, double py, double h, double x0, double x1, double y0, double y1) {
+  auto corner = [&](double x, double y) {  // signed B-3 factor of [px,x]×[py,y]
+    const double sx = x >= px ? 1 : -1, sy = y >= py ? 1 : -1;
+    return sx * sy * howell_b3(std::abs(x - px) / h, std::abs(y - py) / h);
+  };
+  return corner(x1, y1) - corner(x0, y1) - corner(x1, y0) + corner(x0, y0);
+}
+
+struct Case {
+  std::string name;
+  std::string what;      // what the error measures
+  json scene;            // without meshing
+  double total_area;
+  std::function<double(const Scene&, const Solution&, const Report&)> error;
+};
+
+double surface_mean_irradiance(const Report& r, const std::string& name) {
+  for (const auto& s : r.surfaces)
+    if (s.name == name) return s.irradiance_mean.at(0);
+  throw std::runtime_error("no surface " + name);
+}
+
+std::vector<Case> cases() {
+  std::vector<Case> out;
+  const json one_wavelength = {{"mode", "spectral"}, {"wavelengths_nm", {555}}};
+  {
+    json s = {{"name", "opposed-plates"}, {"spectrum", one_wavelength}, {"materials", {{"black", {{"reflectance", 0}}}}}};
+    s["surfaces"] = {{{"name", "emitter"}, {"material", "black"}, {"polygon", rect({0, 0, 1}, {0, 1, 0}, {1, 0, 0})},
+                      {"emission", {{"exitance", 1.0}}}},
+                     {{"name", "receiver"}, {"material", "black"}, {"polygon", rect({0, 0, 0}, {1, 0, 0}, {0, 1, 0})}}};
+    out.push_back({"opposed-plates", "receiver mean E vs Howell C-11", s, 2.0, [](const Scene&, const Solution&, const Report& r) {
+                     return std::abs(surface_mean_irradiance(r, "receiver") / howell_c11(1, 1) - 1);
+                   }});
+  }
+  {
+    json s = {{"name", "perpendicular-plates"}, {"spectrum", one_wavelength}, {"materials", {{"black", {{"reflectance", 0}}}}}};
+    s["surfaces"] = {{{"name", "floor"}, {"material", "black"}, {"polygon", rect({0, 0, 0}, {1, 0, 0}, {0, 1, 0})}},
+                     {{"name", "wall"}, {"material", "black"}, {"polygon", rect({0, 0, 0}, {0, 0, 1}, {1, 0, 0})},
+                      {"emission", {{"exitance", 1.0}}}}};
+    out.push_back({"perpendicular-plates", "floor mean E vs Howell C-14", s, 2.0, [](const Scene&, const Solution&, const Report& r) {
+                     return std::abs(surface_mean_irradiance(r, "floor") / howell_c14(1, 1) - 1);
+                   }});
+  }
+  for (double rho : {0.9, 0.999}) {
+    json s = {{"name", "furnace"}, {"spectrum", one_wavelength}, {"materials", {{"grey", {{"reflectance", rho}}}}}};
+    s["surfaces"] = {{{"name", "room"}, {"material", "grey"}, {"mesh", box({0, 0, 0}, {4, 3, 2.5}, true)}, {"emission", {{"exitance", 1.0}}}},
+                     {{"name", "obstacle"}, {"material", "grey"}, {"mesh", box({1.5, 1, 0.8}, {2.5, 2, 1.6}, false)},
+                      {"emission", {{"exitance", 1.0}}}}};
+    char name[64];
+    std::snprintf(name, sizeof name, "furnace-obstacle-rho%g", rho);
+    out.push_back({name, "max patch |B (1-rho)/M - 1|", s, 2 * (12 + 10 + 7.5) + 2 * (1 + 0.8 + 0.8),
+                   [rho](const Scene&, const Solution& sol, const Report&) {
+                     double worst = 0;
+                     for (double b : sol.radiosity) worst = std::max(worst, std::abs(b * (1 - rho) - 1));
+                     return worst;
+                   }});
+  }
+  {
+    // CIE 171-style: a 6 x 4 x 3 m room with black surfaces, a 1 m² Lambertian ceiling panel (L = 1
+    // W m^-2 sr^-1 nm^-1), 384 sensors 1 cm above the floor: E = π L F(point -> panel), exact (B-3).
+    json s = {{"name", "cie-room-direct"}, {"spectrum", one_wavelength}, {"materials", {{"black", {{"reflectance", 0}}}}}};
+    s["surfaces"] = {{{"name", "room"}, {"material", "black"}, {"mesh", box({0, 0, 0}, {6, 4, 3}, true)}},
+                     {{"name", "panel"}, {"material", "black"}, {"polygon", rect({2.5, 1.5, 2.999}, {0, 1, 0}, {1, 0, 0})},
+                      {"emission", {{"radiance", 1.0}}}}};
+    s["probes"] = {{{"name", "sensors"}, {"normal", {0, 0, 1}},
+                    {"grid", {{"origin", {0, 0, 0.01}}, {"u", {6, 0, 0}}, {"v", {0, 4, 0}}, {"nu", 24}, {"nv", 16}}}}};
+    out.push_back({"cie-room-direct", "rms sensor E vs pi L F (B-3)", s, 2 * (24 + 18 + 12) + 1,
+                   [](const Scene& scene, const Solution& sol, const Report&) {
+                     double sum = 0;
+                     const auto& pts = scene.probes.at(0).points;
+                     for (std::size_t q = 0; q < pts.size(); ++q) {
+                       const double exact = kPi * point_under_rectangle(pts[q].x, pts[q].y, 2.999 - pts[q].z, 2.5, 3.5, 1.5, 2.5);
+                       const double e = sol.probes[0].irradiance[q] / exact - 1;
+                       sum += e * e;
+                     }
+                     return std::sqrt(sum / pts.size());
+                   }});
+  }
+  return out;
+}
+
+double peak_rss_mb() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return usage.ru_maxrss / 1024.0;  // Linux: kilobytes
+}
+
+}  // namespace
+
+int run_bench(const std::vector<std::string>& args) {
+  std::string json_path;
+  std::vector<double> ladder = {150, 300, 600, 1200, 2400};  // patches ≈ total area / max_patch_area
+  for (std::size_t k = 0; k < args.size(); ++k) {
+    if (args[k] == "-o" && k + 1 < args.size()) {
+      json_path = args[++k];
+    } else if (args[k] == "--quick") {
+      ladder = {150, 600};
+    } else {
+      std::cerr << "usage: lambert bench [--quick] [-o BENCH.json]\n";
+      return 2;
+    }
+  }
+  std::printf("%-26s %-32s %9s %8s %10s %8s %9s %9s %10s\n", "scene", "error measure", "patches", "time_s",
+              "rays", "Mrays/s", "peak_MB", "systems", "error");
+  json rows = json::array();
+  for (const Case& c : cases()) {
+    for (double divisions : ladder) {
+      json scene = c.scene;
+      scene["meshing"] = {{"max_patch_area", c.total_area / divisions}};
+      const DecodeResult decoded = decode_scene(scene.dump(), FileAccess{FileAccess::Policy::Deny, {}, {}});
+      if (!decoded.ok()) {
+        std::cerr << c.name << ": " << format_errors(decoded.errors);
+        return 1;
+      }
+      const auto t0 = std::chrono::steady_clock::now();
+      const Solution sol = solve(*decoded.scene);
+      const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      const Report report = make_report(*decoded.scene, sol);
+      const double error = c.error(*decoded.scene, sol, report);
+      const double ray_seconds = sol.stats.time_form_factors_s + sol.stats.time_probes_s;
+      const double mrays = ray_seconds > 0 ? sol.stats.rays / ray_seconds / 1e6 : 0;
+      std::printf("%-26s %-32s %9zu %8.3f %10llu %8.1f %9.0f %9d %10.2e\n", c.name.c_str(), c.what.c_str(),
+                  sol.stats.patches, seconds, static_cast<unsigned long long>(sol.stats.rays), mrays, peak_rss_mb(),
+                  sol.stats.spectral_systems_solved, error);
+      std::fflush(stdout);
+      rows.push_back({{"scene", c.name}, {"error_measure", c.what}, {"max_patch_area_m2", c.total_area / divisions},
+                      {"patches", sol.stats.patches}, {"time_s", seconds}, {"rays", sol.stats.rays},
+                      {"form_factor_and_probe_Mrays_per_s", mrays}, {"peak_rss_mb", peak_rss_mb()},
+                      {"error", error}});
+    }
+  }
+  if (!json_path.empty()) {
+    std::ofstream(json_path) << json{{"lambert_bench", 1}, {"rows", rows}}.dump(1) << "\n";
+  }
+  return 0;
+}
+
+}  // namespace lambert

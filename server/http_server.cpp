@@ -1,0 +1,539 @@
+// The HTTP service (SPEC §4) on cpp-httplib 0.11.4, the only file that uses it.
+//
+// Hardening against cpp-httplib's defaults (STACK P4-P8):
+//   - connections are served by a fixed pool whose accept loop blocks when `http_threads` connections
+//     are waiting, so pending work is bounded and the kernel's listen backlog pushes back (P6);
+//   - request bodies are read through a content reader with our own size limit, which also holds
+//     for chunked and gzip-encoded bodies (httplib's payload limit, P7, covers only Content-Length);
+//   - solves run on the JobStore's workers, never on these threads (P6);
+//   - handler exceptions are logged and answered with a bare 500 (P8: no EXCEPTION_WHAT header);
+//   - JSON is dumped with invalid UTF-8 replaced, so no message can turn into an exception (P10).
+#include "server/http_server.h"
+
+#include <httplib.h>
+
+#include <algorithm>
+#include <atomic>
+#include <charconv>
+#include <condition_variable>
+#include <ctime>
+#include <iostream>
+#include <list>
+#include <mutex>
+#include <regex>
+#include <thread>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#ifndef LAMBERT_VERSION
+#define LAMBERT_VERSION "unknown"
+#endif
+
+namespace lambert {
+
+// ---- the embedded contract documents ----------------------------------------------------------
+
+namespace {
+#include "contract_documents.inc"  // kOpenApiJson, kSceneSchemaJson (tools/embed_files.cmake)
+}  // namespace
+
+const std::string& openapi_document() {
+  static const std::string text(reinterpret_cast<const char*>(kOpenApiJson), sizeof kOpenApiJson - 1);
+  return text;
+}
+const std::string& scene_schema_document() {
+  static const std::string text(reinterpret_cast<const char*>(kSceneSchemaJson),
+                                sizeof kSceneSchemaJson - 1);
+  return text;
+}
+
+FileAccess http_file_access(const std::optional<std::filesystem::path>& mesh_root) {
+  FileAccess files;
+  if (mesh_root) {
+    files.policy = FileAccess::Policy::UnderRoot;
+    files.root = *mesh_root;
+  } else {
+    files.policy = FileAccess::Policy::Deny;
+  }
+  return files;
+}
+
+namespace {
+
+using json = nlohmann::json;
+
+// ---- responses ----------------------------------------------------------------------------------
+
+constexpr const char* kJsonType = "application/json";
+
+std::string dump(const json& j) { return j.dump(-1, ' ', false, json::error_handler_t::replace); }
+
+void send_json(httplib::Response& res, int status, const json& body) {
+  res.status = status;
+  res.set_content(dump(body) + "\n", kJsonType);
+}
+
+// SPEC §4: {"error": {"code", "message", "pointer"}}, plus any `extra` members inside "error".
+void send_error(httplib::Response& res, int status, const std::string& code,
+                const std::string& message, const std::string& pointer = "",
+                json extra = json::object()) {
+  json error = {{"code", code}, {"message", message}, {"pointer", pointer}};
+  for (auto& [k, v] : extra.items()) error[k] = std::move(v);
+  send_json(res, status, {{"error", std::move(error)}});
+}
+
+std::string rfc3339(std::chrono::system_clock::time_point t) {
+  const std::time_t secs = std::chrono::system_clock::to_time_t(t);
+  std::tm tm{};
+  gmtime_r(&secs, &tm);
+  char buf[32];
+  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
+  return buf;
+}
+
+std::string job_url(const std::string& id) { return "/v1/jobs/" + id; }
+
+json status_json(const JobStatus& s) {
+  json j = {{"id", s.id}, {"state", to_string(s.state)}, {"progress", s.progress},
+            {"created", rfc3339(s.created)}};
+  if (s.state == JobState::Queued) j["queue_position"] = s.queue_position;
+  if (s.state == JobState::Done || s.state == JobState::Failed || s.state == JobState::Cancelled)
+    j["finished"] = rfc3339(s.finished);
+  if (s.expires) j["expires"] = rfc3339(*s.expires);
+  if (s.state == JobState::Failed) j["error"] = s.error;
+  if (s.state == JobState::Done) j["result_url"] = job_url(s.id) + "/result";
+  j["status_url"] = job_url(s.id);
+  return j;
+}
+
+// ---- the connection pool ------------------------------------------------------------------------
+
+// httplib's ThreadPool queues accepted connections without bound. This one has `threads` workers
+// and at most `max_pending` connections waiting; beyond that enqueue() blocks the accept loop, and
+// new clients wait in the kernel's backlog instead of in our memory.
+class BoundedThreadPool final : public httplib::TaskQueue {
+ public:
+  BoundedThreadPool(std::size_t threads, std::size_t max_pending) : max_pending_(max_pending) {
+    for (std::size_t k = 0; k < threads; ++k) threads_.emplace_back([this] { work(); });
+  }
+  ~BoundedThreadPool() override { shutdown(); }
+
+  void enqueue(std::function<void()> fn) override {
+    std::unique_lock lock(mutex_);
+    room_.wait(lock, [&] { return pending_.size() < max_pending_ || shutdown_; });
+    pending_.push_back(std::move(fn));
+    work_.notify_one();
+  }
+
+  void shutdown() override {
+    {
+      std::lock_guard lock(mutex_);
+      if (shutdown_ && threads_.empty()) return;
+      shutdown_ = true;
+    }
+    work_.notify_all();
+    room_.notify_all();
+    for (auto& t : threads_) t.join();
+    threads_.clear();
+  }
+
+ private:
+  void work() {
+    for (;;) {
+      std::function<void()> fn;
+      {
+        std::unique_lock lock(mutex_);
+        work_.wait(lock, [&] { return !pending_.empty() || shutdown_; });
+        if (pending_.empty()) return;  // shutting down and drained
+        fn = std::move(pending_.front());
+        pending_.pop_front();
+        room_.notify_one();
+      }
+      fn();
+    }
+  }
+
+  const std::size_t max_pending_;
+  std::mutex mutex_;
+  std::condition_variable work_, room_;
+  std::list<std::function<void()>> pending_;
+  std::vector<std::thread> threads_;
+  bool shutdown_ = false;
+};
+
+// ---- routes -------------------------------------------------------------------------------------
+
+struct Route {
+  std::regex pattern;
+  std::vector<std::string> methods;  // GET implies HEAD
+  std::string allow;                 // the Allow header for 405
+};
+
+std::vector<Route> make_routes() {
+  auto route = [](const char* pattern, std::vector<std::string> methods) {
+    std::string allow;
+    for (const auto& m : methods) allow += (allow.empty() ? "" : ", ") + m + (m == "GET" ? ", HEAD" : "");
+    return Route{std::regex(pattern), std::move(methods), std::move(allow)};
+  };
+  return {route("/v1/solve", {"POST"}),
+          route("/v1/jobs", {"POST"}),
+          route("/v1/jobs/[^/]+", {"GET", "DELETE"}),
+          route("/v1/jobs/[^/]+/result", {"GET"}),
+          route("/v1/health", {"GET"}),
+          route("/v1/openapi.json", {"GET"}),
+          route("/v1/schema/scene.json", {"GET"})};
+}
+
+std::optional<std::size_t> content_length(const httplib::Request& req) {
+  if (!req.has_header("Content-Length")) return std::nullopt;
+  const std::string v = req.get_header_value("Content-Length");
+  std::size_t n = 0;
+  const auto [end, ec] = std::from_chars(v.data(), v.data() + v.size(), n);
+  if (ec != std::errc() || end != v.data() + v.size()) return std::nullopt;
+  return n;
+}
+
+bool has_chunked_body(const httplib::Request& req) {
+  std::string te = req.get_header_value("Transfer-Encoding");
+  std::transform(te.begin(), te.end(), te.begin(), [](unsigned char c) { return std::tolower(c); });
+  return te.find("chunked") != std::string::npos;
+}
+
+// A request whose body we leave unread (or read only in part) must not be followed by another on the
+// same connection: its remaining bytes would be taken for the next request.
+bool has_body(const httplib::Request& req) {
+  const auto length = content_length(req);
+  return (length && *length > 0) || has_chunked_body(req);
+}
+void close_after(const httplib::Request& req, httplib::Response& res) {
+  if (req.get_header_value("Connection") != "close" && !res.has_header("Connection"))
+    res.set_header("Connection", "close");
+}
+
+}  // namespace
+
+// ---- the server -----------------------------------------------------------------------------------
+
+struct HttpServer::Impl {
+  Impl(JobStore& j, HttpServerOptions o)
+      : jobs(j), options(std::move(o)), files(http_file_access(options.mesh_root)),
+        routes(make_routes()),
+        max_sync_waiters(std::max<std::size_t>(1, options.http_threads > 2 ? options.http_threads - 2 : 1)) {}
+
+  JobStore& jobs;
+  HttpServerOptions options;
+  FileAccess files;
+  std::vector<Route> routes;
+  httplib::Server server;
+  // Synchronous solves wait on HTTP threads: keep two threads free for status and health requests.
+  const std::size_t max_sync_waiters;
+  std::atomic<std::size_t> sync_waiters{0};
+
+  void install();
+
+  enum class Body { Ok, Sent };
+  Body read_body(const httplib::Request& req, httplib::Response& res,
+                 const httplib::ContentReader& reader, std::string& body) const;
+  // Decodes a request's scene; on failure sends the 400/422 answer and returns nullopt.
+  std::optional<Scene> decode(const std::string& body, httplib::Response& res) const;
+
+  void post_solve(const httplib::Request& req, httplib::Response& res, const httplib::ContentReader& reader);
+  void post_job(const httplib::Request& req, httplib::Response& res, const httplib::ContentReader& reader);
+  void get_job(const httplib::Request& req, httplib::Response& res);
+  void get_result(const httplib::Request& req, httplib::Response& res);
+  void delete_job(const httplib::Request& req, httplib::Response& res, const httplib::ContentReader& reader);
+  void health(httplib::Response& res);
+
+  void queue_full(httplib::Response& res, std::size_t queue_size, const std::string& what) {
+    res.set_header("Retry-After", std::to_string(options.retry_after_s));
+    send_error(res, 503, "queue_full",
+               what + ": the job queue is full (" + std::to_string(queue_size) +
+                   " jobs waiting); retry later");
+  }
+};
+
+HttpServer::HttpServer(JobStore& jobs, HttpServerOptions options)
+    : impl_(std::make_unique<Impl>(jobs, std::move(options))) {
+  impl_->install();
+}
+
+HttpServer::~HttpServer() { stop(); }
+
+int HttpServer::bind(const std::string& host, int port) {
+  if (port == 0) return impl_->server.bind_to_any_port(host);
+  return impl_->server.bind_to_port(host, port) ? port : -1;
+}
+
+bool HttpServer::listen_after_bind() { return impl_->server.listen_after_bind(); }
+void HttpServer::stop() { impl_->server.stop(); }
+bool HttpServer::is_running() const { return impl_->server.is_running(); }
+
+void HttpServer::Impl::install() {
+  const std::size_t threads = std::max<std::size_t>(2, options.http_threads);
+  server.new_task_queue = [threads] { return new BoundedThreadPool(threads, threads); };
+  server.set_payload_max_length(options.max_body_bytes);
+  server.set_read_timeout(options.read_timeout_s, 0);
+  server.set_write_timeout(options.write_timeout_s, 0);
+  server.set_keep_alive_timeout(options.keep_alive_timeout_s);
+  server.set_keep_alive_max_count(100);
+  server.set_tcp_nodelay(true);
+  server.set_default_headers({{"Cache-Control", "no-store"}, {"X-Content-Type-Options", "nosniff"}});
+
+  // 404 for unknown paths and 405 (with Allow) for known paths with another method, decided before
+  // any body is read.
+  server.set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
+    for (const Route& route : routes) {
+      if (!std::regex_match(req.path, route.pattern)) continue;
+      const bool allowed =
+          std::find(route.methods.begin(), route.methods.end(), req.method) != route.methods.end() ||
+          (req.method == "HEAD" &&
+           std::find(route.methods.begin(), route.methods.end(), "GET") != route.methods.end());
+      if (allowed) return httplib::Server::HandlerResponse::Unhandled;
+      res.set_header("Allow", route.allow);
+      if (has_body(req)) close_after(req, res);
+      send_error(res, 405, "method_not_allowed",
+                 req.method + " is not allowed on " + req.path + "; allowed: " + route.allow);
+      return httplib::Server::HandlerResponse::Handled;
+    }
+    if (has_body(req)) close_after(req, res);
+    send_error(res, 404, "not_found", "no such resource: " + req.path + " (see /v1/openapi.json)");
+    return httplib::Server::HandlerResponse::Handled;
+  });
+
+  // Statuses httplib sets by itself (400 unreadable request, 413, 414, ...) get a JSON body too.
+  server.set_error_handler(httplib::Server::HandlerWithResponse(
+      [](const httplib::Request&, httplib::Response& res) -> httplib::Server::HandlerResponse {
+    if (!res.body.empty()) return httplib::Server::HandlerResponse::Unhandled;
+    switch (res.status) {
+      case 400: send_error(res, 400, "bad_request", "the request could not be read"); break;
+      case 404: send_error(res, 404, "not_found", "no such resource"); break;
+      case 413: send_error(res, 413, "too_large", "the request body is too large"); break;
+      case 414: send_error(res, 414, "uri_too_long", "the request URI is too long"); break;
+      default:
+        send_error(res, res.status, res.status >= 500 ? "internal" : "bad_request",
+                   "the request failed (HTTP " + std::to_string(res.status) + ")");
+    }
+    return httplib::Server::HandlerResponse::Handled;
+  }));
+
+  server.set_exception_handler([](const httplib::Request& req, httplib::Response& res,
+                                  std::exception_ptr ep) {
+    std::string what = "unknown exception";
+    try {
+      std::rethrow_exception(ep);
+    } catch (const std::exception& e) {
+      what = e.what();
+    } catch (...) {
+    }
+    std::cerr << "lambert serve: " << req.method << " " << req.path << ": " << what << "\n";
+    res.headers.clear();
+    send_error(res, 500, "internal", "internal server error (details are in the server log)");
+  });
+
+  if (options.access_log)
+    server.set_logger([](const httplib::Request& req, const httplib::Response& res) {
+      std::cerr << req.remote_addr << " " << req.method << " " << req.path << " " << res.status << " "
+                << res.body.size() << "\n";
+    });
+
+  server.Post("/v1/solve", [this](const httplib::Request& req, httplib::Response& res,
+                                  const httplib::ContentReader& reader) { post_solve(req, res, reader); });
+  server.Post("/v1/jobs", [this](const httplib::Request& req, httplib::Response& res,
+                                 const httplib::ContentReader& reader) { post_job(req, res, reader); });
+  server.Get(R"(/v1/jobs/([^/]+))",
+             [this](const httplib::Request& req, httplib::Response& res) { get_job(req, res); });
+  server.Delete(R"(/v1/jobs/([^/]+))", [this](const httplib::Request& req, httplib::Response& res,
+                                              const httplib::ContentReader& reader) {
+    delete_job(req, res, reader);
+  });
+  server.Get(R"(/v1/jobs/([^/]+)/result)",
+             [this](const httplib::Request& req, httplib::Response& res) { get_result(req, res); });
+  server.Get("/v1/health", [this](const httplib::Request&, httplib::Response& res) { health(res); });
+  server.Get("/v1/openapi.json", [](const httplib::Request&, httplib::Response& res) {
+    res.set_content(openapi_document(), kJsonType);
+  });
+  server.Get("/v1/schema/scene.json", [](const httplib::Request&, httplib::Response& res) {
+    res.set_content(scene_schema_document(), "application/schema+json");
+  });
+}
+
+// Reads the body with our own limit. Sends the error itself (and returns Sent) when it cannot.
+HttpServer::Impl::Body HttpServer::Impl::read_body(const httplib::Request& req, httplib::Response& res,
+                                                   const httplib::ContentReader& reader,
+                                                   std::string& body) const {
+  const std::string limit = std::to_string(options.max_body_bytes) + " bytes";
+  if (req.is_multipart_form_data()) {
+    close_after(req, res);
+    send_error(res, 415, "unsupported_media_type",
+               "send the scene as the request body (application/json), not as a multipart form");
+    return Body::Sent;
+  }
+  const auto length = content_length(req);
+  if (!length && !has_chunked_body(req)) {
+    // Without either, HTTP/1.1 would read until the client closes the connection.
+    close_after(req, res);
+    send_error(res, 411, "length_required", "the request needs a Content-Length header (or chunked encoding)");
+    return Body::Sent;
+  }
+  if (length && *length > options.max_body_bytes) {
+    // httplib discards the body itself (payload_max_length) and sets 413.
+    reader([](const char*, std::size_t) { return true; });
+    close_after(req, res);
+    send_error(res, 413, "too_large",
+               "the request body has " + std::to_string(*length) + " bytes; this server accepts at most " + limit);
+    return Body::Sent;
+  }
+  if (length) body.reserve(*length);
+  bool too_large = false;
+  const bool ok = reader([&](const char* data, std::size_t n) {
+    if (body.size() + n > options.max_body_bytes) {
+      too_large = true;
+      return false;
+    }
+    body.append(data, n);
+    return true;
+  });
+  if (too_large || res.status == 413) {
+    close_after(req, res);
+    send_error(res, 413, "too_large", "the request body is larger than this server's limit of " + limit);
+    return Body::Sent;
+  }
+  if (!ok) {
+    close_after(req, res);
+    send_error(res, 400, "invalid_body",
+               "the request body could not be read completely (truncated, badly encoded or too slow)");
+    return Body::Sent;
+  }
+  return Body::Ok;
+}
+
+std::optional<Scene> HttpServer::Impl::decode(const std::string& body, httplib::Response& res) const {
+  DecodeResult decoded = decode_scene(body, files);
+  if (decoded.ok()) return std::move(decoded.scene);
+  const DecodeError& first = decoded.errors.front();
+  // Errors without a pointer concern the whole document; it is "invalid JSON" only if the text is
+  // not JSON at all (RFC 8259: also invalid UTF-8). Valid JSON that is no scene (too deeply nested,
+  // not an object, a number out of the double range) is an invalid scene.
+  if (first.pointer.empty() && decoded.errors.size() == 1 && !json::accept(body)) {
+    send_error(res, 400, "invalid_json",
+               body.empty() ? std::string("the request body is empty; send a scene (JSON)") : first.message);
+    return std::nullopt;
+  }
+  json errors = json::array();
+  for (const DecodeError& e : decoded.errors) errors.push_back({{"pointer", e.pointer}, {"message", e.message}});
+  std::string message = (first.pointer.empty() ? std::string("(document)") : first.pointer) + ": " + first.message;
+  if (decoded.errors.size() > 1)
+    message += " (and " + std::to_string(decoded.errors.size() - 1) + " more; see \"errors\")";
+  send_error(res, 422, "invalid_scene", message, first.pointer, {{"errors", std::move(errors)}});
+  return std::nullopt;
+}
+
+void HttpServer::Impl::post_solve(const httplib::Request& req, httplib::Response& res,
+                                  const httplib::ContentReader& reader) {
+  std::string body;
+  if (read_body(req, res, reader, body) == Body::Sent) return;
+  auto scene = decode(body, res);
+  if (!scene) return;
+  body.clear();
+  body.shrink_to_fit();
+  // Bounded: at most max_sync_waiters HTTP threads wait for a solve.
+  if (sync_waiters.fetch_add(1) >= max_sync_waiters) {
+    sync_waiters.fetch_sub(1);
+    res.set_header("Retry-After", std::to_string(options.retry_after_s));
+    send_error(res, 503, "busy",
+               "too many synchronous solves in progress; retry later or use POST /v1/jobs");
+    return;
+  }
+  SyncOutcome outcome = jobs.solve_now(std::move(*scene));
+  sync_waiters.fetch_sub(1);
+  if (auto* r = std::get_if<JobResult>(&outcome)) {
+    res.status = 200;
+    res.set_content(*r->json, kJsonType);
+  } else if (auto* f = std::get_if<SolveFailed>(&outcome)) {
+    send_error(res, 422, "solve_failed", f->reason);
+  } else if (auto* q = std::get_if<QueueFull>(&outcome)) {
+    queue_full(res, q->queue_size, "cannot solve now");
+  } else {
+    send_error(res, 503, "shutting_down", "the server is shutting down");
+  }
+}
+
+void HttpServer::Impl::post_job(const httplib::Request& req, httplib::Response& res,
+                                const httplib::ContentReader& reader) {
+  std::string body;
+  if (read_body(req, res, reader, body) == Body::Sent) return;
+  auto scene = decode(body, res);
+  if (!scene) return;
+  SubmitOutcome outcome = jobs.submit(std::move(*scene), body);
+  if (auto* s = std::get_if<JobStatus>(&outcome)) {
+    json j = status_json(*s);
+    res.set_header("Location", job_url(s->id));
+    send_json(res, 202, j);
+  } else if (auto* q = std::get_if<QueueFull>(&outcome)) {
+    queue_full(res, q->queue_size, "job not accepted");
+  } else if (auto* e = std::get_if<StorageError>(&outcome)) {
+    send_error(res, 500, "internal", e->message);
+  } else {
+    send_error(res, 503, "shutting_down", "the server is shutting down");
+  }
+}
+
+void HttpServer::Impl::get_job(const httplib::Request& req, httplib::Response& res) {
+  const std::string id = req.matches[1];
+  const auto status = JobStore::is_valid_id(id) ? jobs.status(id) : std::nullopt;
+  if (!status) return send_error(res, 404, "not_found", "no job " + id);
+  send_json(res, 200, status_json(*status));
+}
+
+void HttpServer::Impl::get_result(const httplib::Request& req, httplib::Response& res) {
+  const std::string id = req.matches[1];
+  if (!JobStore::is_valid_id(id)) return send_error(res, 404, "not_found", "no job " + id);
+  ResultLookup lookup = jobs.result(id);
+  if (auto* r = std::get_if<JobResult>(&lookup)) {
+    res.status = 200;
+    res.set_content(*r->json, kJsonType);
+  } else if (auto* n = std::get_if<JobNotDone>(&lookup)) {
+    res.set_header("Retry-After", "1");
+    send_error(res, 409, "not_done",
+               std::string("the job is ") + to_string(n->status.state) + "; its result is not ready",
+               "", {{"state", to_string(n->status.state)}, {"progress", n->status.progress}});
+  } else if (auto* f = std::get_if<JobFailed>(&lookup)) {
+    const bool failed = f->status.state == JobState::Failed;
+    send_error(res, 409, failed ? "job_failed" : "job_cancelled",
+               failed ? "the job failed: " + f->status.error : std::string("the job was cancelled"), "",
+               {{"state", to_string(f->status.state)}});
+  } else {
+    send_error(res, 404, "not_found", "no job " + id);
+  }
+}
+
+void HttpServer::Impl::delete_job(const httplib::Request& req, httplib::Response& res,
+                                  const httplib::ContentReader& reader) {
+  // A DELETE has no body; read one only if announced, so that the connection stays in step.
+  if (const auto length = content_length(req); (length && *length > 0) || has_chunked_body(req)) {
+    std::string ignored;
+    if (read_body(req, res, reader, ignored) == Body::Sent) return;
+  }
+  const std::string id = req.matches[1];
+  const CancelOutcome out = JobStore::is_valid_id(id) ? jobs.cancel_or_remove(id) : CancelOutcome{};
+  switch (out.kind) {
+    case CancelOutcome::Kind::NotFound: return send_error(res, 404, "not_found", "no job " + id);
+    case CancelOutcome::Kind::Cancelled: return send_json(res, 200, status_json(out.status));
+    case CancelOutcome::Kind::Removed:
+      return send_json(res, 200, {{"id", id}, {"deleted", true}, {"state", to_string(out.status.state)}});
+  }
+}
+
+void HttpServer::Impl::health(httplib::Response& res) {
+  const JobStore::Counts c = jobs.counts();
+  send_json(res, 200,
+            {{"status", "ok"},
+             {"version", LAMBERT_VERSION},
+             {"scene_format", 1},
+             {"workers", c.workers},
+             {"jobs", {{"queued", c.queued}, {"running", c.running}, {"stored", c.stored}}},
+             {"queue_size", c.queue_size}});
+}
+
+}  // namespace lambert
