@@ -140,6 +140,37 @@ std::string encode_result(const Scene& scene, const Solution& sol, const Report&
   }
   out["probes"] = std::move(probes);
 
+  if (!sol.contributions.empty()) {
+    json sources = json::array();
+    for (std::size_t c = 0; c < sol.contributions.size(); ++c) {
+      const SourceContribution& contribution = sol.contributions[c];
+      const SourceReport& sr = report.sources.at(c);
+      json j;
+      j["source"] = contribution.pointer;
+      j["name"] = contribution.name;
+      j["patches"] = {{"illuminance_lx", sr.patch_illuminance_lx}, {"luminance_cd_m2", sr.patch_luminance_cd_m2}};
+      if (spectral) {
+        json radiosity = json::array(), irradiance = json::array();
+        for (std::size_t i = 0; i < sol.patches.size(); ++i) {
+          radiosity.push_back(spectrum_json(&contribution.radiosity[i * W], W));
+          irradiance.push_back(spectrum_json(&contribution.irradiance[i * W], W));
+        }
+        j["patches"]["radiosity"] = std::move(radiosity);
+        j["patches"]["irradiance"] = std::move(irradiance);
+      }
+      json probes = json::array();
+      for (std::size_t k = 0; k < scene.probes.size(); ++k) {
+        json probe = {{"name", scene.probes[k].name}};
+        if (scene.probes[k].is_grid) probe["illuminance_lx"] = sr.probe_illuminance_lx.at(k);
+        else probe["illuminance_lx"] = sr.probe_illuminance_lx.at(k).at(0);
+        probes.push_back(std::move(probe));
+      }
+      j["probes"] = std::move(probes);
+      sources.push_back(std::move(j));
+    }
+    out["sources"] = std::move(sources);
+  }
+
   const SolveStats& st = sol.stats;
   out["stats"] = {
       {"patches", st.patches},

@@ -1611,9 +1611,11 @@ void Decoder::decode_options(const json& doc) {
       if (auto v = whole(*t, "/solver/max_iterations", 1, 1000000))
         scene_.solver.max_iterations = static_cast<int>(*v);
   }
-  if (const json* o = member(doc, "output"); o && object(*o, "/output", {"spectral"})) {
+  if (const json* o = member(doc, "output"); o && object(*o, "/output", {"spectral", "per_source"})) {
     if (const json* s = member(*o, "spectral"))
       if (auto v = boolean(*s, "/output/spectral")) scene_.output.spectral = *v;
+    if (const json* s = member(*o, "per_source"))
+      if (auto v = boolean(*s, "/output/per_source")) scene_.output.per_source = *v;
   }
 }
 

@@ -185,17 +185,59 @@ Solution solve(const Scene& scene, const SolveControl& control) {
       any_emitter = true;
     }
   }
+  // Superposition (output.per_source): every light, and every emitting surface, is a source whose
+  // M and E^direct are kept apart; the joint solve uses their sums.
+  struct SourceTerms {
+    std::string pointer, name;
+    std::vector<double> M, E;  // [patch][λ]
+  };
+  std::vector<SourceTerms> terms;
+  std::vector<int> term_of_source(sources.size(), -1);
+  if (scene.output.per_source) {
+    static constexpr const char* kLightNames[] = {"ambient", "directional", "point-like"};
+    for (std::size_t l = 0; l < scene.lights.size(); ++l) {
+      std::string name = kLightNames[scene.lights[l].index()];
+      if (const auto* pl = std::get_if<PointLight>(&scene.lights[l]))
+        name = pl->kind == PointLight::Kind::Point ? "point"
+               : pl->kind == PointLight::Kind::Spot ? "spot"
+               : pl->kind == PointLight::Kind::Warn ? "warn" : "goniometric";
+      terms.push_back({l < scene.light_pointers.size() ? scene.light_pointers[l] : "/lights/" + std::to_string(l),
+                       name, {}, std::vector<double>(N * W, 0.0)});
+      term_of_source[l] = static_cast<int>(l);
+    }
+    std::vector<int> term_of_surface(scene.surfaces.size(), -1);
+    for (std::size_t s = 0; s < scene.surfaces.size(); ++s)
+      if (scene.surfaces[s].emission) {
+        term_of_surface[s] = static_cast<int>(terms.size());
+        terms.push_back({scene.surfaces[s].pointer, scene.surfaces[s].name, std::vector<double>(N * W, 0.0),
+                         std::vector<double>(N * W, 0.0)});
+      }
+    std::size_t next_source = scene.lights.size();
+    for (std::size_t i = 0; i < N; ++i) {
+      const Surface& surface = scene.surfaces[sol.patches[i].surface];
+      if (!surface.emission) continue;
+      const int t = term_of_surface[sol.patches[i].surface];
+      if (surface.emission->lobe_exponent != 1.0) {
+        term_of_source[next_source++] = t;  // the Phong sources were appended in patch order
+      } else {
+        for (std::size_t w = 0; w < W; ++w) terms[t].M[i * W + w] = M[i * W + w];
+      }
+    }
+  }
   if (!sources.empty()) {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, N, 16), [&](const auto& range) {
       for (std::size_t i = range.begin(); i != range.end(); ++i) {
-        for (const auto& source : sources) {
+        for (std::size_t k = 0; k < sources.size(); ++k) {
+          const auto& source = sources[k];
           const double g = source->patch_factor(sol.patches[i].triangle, vis);
           if (g == 0) continue;
           const auto& S = source->spectrum();
           const bool known_flux = source->flux_factor() > 0;
+          double* own = term_of_source[k] >= 0 ? &terms[term_of_source[k]].E[i * W] : nullptr;
           for (std::size_t w = 0; w < W; ++w) {
             E_direct[i * W + w] += g * S[w];
             if (known_flux) E_point[i * W + w] += g * S[w];
+            if (own) own[w] += g * S[w];
           }
         }
       }
@@ -316,9 +358,13 @@ Solution solve(const Scene& scene, const SolveControl& control) {
   report(0.85);
 
   // ---- linear solves, one per distinct (reflectance column, right-hand side) ----
+  // Right-hand-side sets: the joint sources first, then (output.per_source) each source alone. All
+  // their systems are solved together, so F is streamed once per iteration for all of them.
   t0 = Clock::now();
-  sol.radiosity.assign(N * W, 0.0);
-  sol.irradiance.assign(N * W, 0.0);
+  std::vector<std::pair<const std::vector<double>*, const std::vector<double>*>> sets = {{&M, &E_direct}};
+  const std::vector<double> no_emission(N * W, 0.0);
+  for (const SourceTerms& t : terms) sets.push_back({t.M.empty() ? &no_emission : &t.M, &t.E});
+  std::vector<std::vector<double>> set_radiosity(sets.size(), std::vector<double>(N * W, 0.0));
   std::map<std::vector<double>, std::vector<std::size_t>> groups;  // ρ over materials -> wavelengths
   for (std::size_t w = 0; w < W; ++w) {
     std::vector<double> key(scene.materials.size());
@@ -337,9 +383,10 @@ Solution solve(const Scene& scene, const SolveControl& control) {
   const std::size_t n = active.size();
   std::vector<char> is_active(N, 0);
   for (int i : active) is_active[i] = 1;
-  for (std::size_t i = 0; i < N; ++i)
-    if (!is_active[i])
-      for (std::size_t w = 0; w < W; ++w) sol.radiosity[i * W + w] = M[i * W + w];
+  for (std::size_t set = 0; set < sets.size(); ++set)
+    for (std::size_t i = 0; i < N; ++i)
+      if (!is_active[i])
+        for (std::size_t w = 0; w < W; ++w) set_radiosity[set][i * W + w] = (*sets[set].first)[i * W + w];
   if (n > 0) {
     // F restricted to the unknowns (a copy only when some patches are black everywhere).
     std::vector<double> compact;
@@ -349,32 +396,36 @@ Solution solve(const Scene& scene, const SolveControl& control) {
         for (std::size_t c = 0; c < n; ++c) compact[r * n + c] = F[active[r] * N + active[c]];
     }
     const std::vector<double>& Fa = n < N ? compact : F;
-    // One system per distinct (reflectance column, right-hand side); wavelengths map onto them.
+    // One system per distinct (reflectance column, right-hand side); (set, wavelength) map onto them.
     //   B_i − ρ_i Σ_{j active} F_ij B_j = M_i + ρ_i (E_i + Σ_{j black} F_ij M_j)
     std::vector<RadiositySystem> systems;
     std::map<std::pair<std::vector<double>, std::vector<double>>, std::size_t> system_of;
-    std::vector<std::size_t> wavelength_system(W);
+    std::vector<std::vector<std::size_t>> system_for(sets.size(), std::vector<std::size_t>(W));
     for (const auto& [key, wavelengths] : groups) {
       std::vector<double> rho_column(n);
       for (std::size_t r = 0; r < n; ++r) rho_column[r] = rho[active[r] * W + wavelengths.front()];
-      for (std::size_t w : wavelengths) {
-        std::vector<double> rhs(n);
-        for (std::size_t r = 0; r < n; ++r) {
-          const std::size_t i = active[r];
-          double from_black = 0;
-          if (n < N)
-            for (std::size_t j = 0; j < N; ++j)
-              if (!is_active[j] && M[j * W + w] != 0) from_black += F[i * N + j] * M[j * W + w];
-          rhs[r] = M[i * W + w] + rho_column[r] * (E_direct[i * W + w] + from_black);
+      for (std::size_t set = 0; set < sets.size(); ++set) {
+        const std::vector<double>& Ms = *sets[set].first;
+        const std::vector<double>& Es = *sets[set].second;
+        for (std::size_t w : wavelengths) {
+          std::vector<double> rhs(n);
+          for (std::size_t r = 0; r < n; ++r) {
+            const std::size_t i = active[r];
+            double from_black = 0;
+            if (n < N)
+              for (std::size_t j = 0; j < N; ++j)
+                if (!is_active[j] && Ms[j * W + w] != 0) from_black += F[i * N + j] * Ms[j * W + w];
+            rhs[r] = Ms[i * W + w] + rho_column[r] * (Es[i * W + w] + from_black);
+          }
+          auto [it, inserted] = system_of.try_emplace({rho_column, rhs}, systems.size());
+          if (inserted) {
+            RadiositySystem& sys = systems.emplace_back();
+            sys.rho = rho_column;
+            sys.x = rhs;  // first bounce as the starting guess
+            sys.b = std::move(rhs);
+          }
+          system_for[set][w] = it->second;
         }
-        auto [it, inserted] = system_of.try_emplace({rho_column, rhs}, systems.size());
-        if (inserted) {
-          RadiositySystem& sys = systems.emplace_back();
-          sys.rho = rho_column;
-          sys.x = rhs;  // first bounce as the starting guess
-          sys.b = std::move(rhs);
-        }
-        wavelength_system[w] = it->second;
       }
     }
     solve_radiosity_systems(Fa, n, systems, scene.solver.tolerance, scene.solver.max_iterations,
@@ -387,67 +438,98 @@ Solution solve(const Scene& scene, const SolveControl& control) {
     // A spectral radiosity is ≥ 0, so a negative x is round-off and is dropped; an rgb channel
     // value may be negative (signed O_c and I_c, solver/rgb_model.h) and is kept.
     const bool keep_sign = scene.mode == SpectrumMode::Rgb;
-    for (std::size_t w = 0; w < W; ++w)
-      for (std::size_t r = 0; r < n; ++r)
-        sol.radiosity[active[r] * W + w] = keep_sign ? systems[wavelength_system[w]].x[r]
-                                                     : std::max(0.0, systems[wavelength_system[w]].x[r]);
-  }
-  // H_i = Σ_j F_ij B_j + E_i^direct
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, N, 16), [&](const auto& range) {
-    std::vector<double> h(W);
-    for (std::size_t i = range.begin(); i != range.end(); ++i) {
-      std::fill(h.begin(), h.end(), 0.0);
-      if (need_factors) {
-        const double* row = &F[i * N];
-        for (std::size_t j = 0; j < N; ++j) {
-          if (row[j] == 0) continue;
-          const double* b = &sol.radiosity[j * W];
-          for (std::size_t w = 0; w < W; ++w) h[w] += row[j] * b[w];
+    for (std::size_t set = 0; set < sets.size(); ++set)
+      for (std::size_t w = 0; w < W; ++w)
+        for (std::size_t r = 0; r < n; ++r) {
+          const double x = systems[system_for[set][w]].x[r];
+          set_radiosity[set][active[r] * W + w] = keep_sign ? x : std::max(0.0, x);
         }
+  }
+  // H_i = Σ_j F_ij B_j + E_i^direct, for every set.
+  auto gather = [&](const std::vector<double>& B, const std::vector<double>& E, std::vector<double>& H) {
+    H.assign(N * W, 0.0);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, N, 16), [&](const auto& range) {
+      for (std::size_t i = range.begin(); i != range.end(); ++i) {
+        double* h = &H[i * W];
+        if (need_factors) {
+          const double* row = &F[i * N];
+          for (std::size_t j = 0; j < N; ++j) {
+            if (row[j] == 0) continue;
+            const double* b = &B[j * W];
+            for (std::size_t w = 0; w < W; ++w) h[w] += row[j] * b[w];
+          }
+        }
+        for (std::size_t w = 0; w < W; ++w) h[w] += E[i * W + w];
       }
-      for (std::size_t w = 0; w < W; ++w) sol.irradiance[i * W + w] = h[w] + E_direct[i * W + w];
-    }
-  });
+    });
+  };
+  sol.radiosity = std::move(set_radiosity[0]);
+  gather(sol.radiosity, E_direct, sol.irradiance);
+  for (std::size_t t = 0; t < terms.size(); ++t) {
+    SourceContribution c{terms[t].pointer, terms[t].name, std::move(set_radiosity[t + 1]), {}, {}};
+    gather(c.radiosity, terms[t].E, c.irradiance);
+    sol.contributions.push_back(std::move(c));
+  }
   sol.stats.time_solve_s = seconds_since(t0);
   report(0.9);
 
-  // ---- probes: irradiance from every light and every patch at each point ----
+  // ---- probes: irradiance from every source and every patch at each point ----
+  // Per point, the direct factor of each source and the visible factor of each radiating patch are
+  // computed once and applied to the joint solution and to every source's contribution.
   t0 = Clock::now();
   sol.probes.resize(scene.probes.size());
+  for (auto& c : sol.contributions) c.probes.resize(scene.probes.size());
+  std::vector<char> radiates(N, 0);
+  for (std::size_t j = 0; j < N; ++j) {
+    const double* b = &sol.radiosity[j * W];
+    radiates[j] = std::any_of(b, b + W, [](double v) { return v != 0; });
+  }
   for (std::size_t k = 0; k < scene.probes.size(); ++k) {
     const Probe& probe = scene.probes[k];
-    auto& out = sol.probes[k].irradiance;
-    out.assign(probe.points.size() * W, 0.0);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, probe.points.size(), 1), [&](const auto& range) {
+    const std::size_t P = probe.points.size();
+    sol.probes[k].irradiance.assign(P * W, 0.0);
+    for (auto& c : sol.contributions) c.probes[k].irradiance.assign(P * W, 0.0);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, P, 1), [&](const auto& range) {
+      std::vector<std::pair<std::size_t, double>> seen;  // (patch, visible point-to-patch factor)
       for (std::size_t q = range.begin(); q != range.end(); ++q) {
         const Point3& p = probe.points[q];
-        double* e = &out[q * W];
-        for (const auto& source : sources) {
-          const double g = source->point_factor(p, probe.normal, vis);
+        for (std::size_t s = 0; s < sources.size(); ++s) {
+          const double g = sources[s]->point_factor(p, probe.normal, vis);
           if (g == 0) continue;
-          const auto& S = source->spectrum();
+          const auto& S = sources[s]->spectrum();
+          double* e = &sol.probes[k].irradiance[q * W];
           for (std::size_t w = 0; w < W; ++w) e[w] += g * S[w];
+          if (term_of_source[s] >= 0) {
+            double* own = &sol.contributions[term_of_source[s]].probes[k].irradiance[q * W];
+            for (std::size_t w = 0; w < W; ++w) own[w] += g * S[w];
+          }
         }
+        seen.clear();
         for (std::size_t j = 0; j < N; ++j) {
-          const double* b = &sol.radiosity[j * W];
-          if (std::all_of(b, b + W, [](double v) { return v == 0; })) continue;
+          if (!radiates[j]) continue;
           const double f = point_triangle_factor(p, probe.normal, sol.patches[j].triangle);
           if (f == 0) continue;
           const Patch& patch = sol.patches[j];
           const double fv = f * weighted_visible_fraction(
                                     vis,
-                                    [&](int k) {
+                                    [&](int r) {
                                       return std::pair{vis.lift(p, probe.normal),
-                                                       vis.lift(visibility_sample(patch.triangle, k), patch.normal)};
+                                                       vis.lift(visibility_sample(patch.triangle, r), patch.normal)};
                                     },
-                                    [&](const Point3&, const Point3& q) {
-                                      const Vector3 d = q - p;
+                                    [&](const Point3&, const Point3& x) {
+                                      const Vector3 d = x - p;
                                       const double r2 = length_squared(d);
                                       return std::max(0.0, dot(probe.normal, d)) *
                                              std::max(0.0, -dot(patch.normal, d)) / (r2 * r2);
                                     });
-          for (std::size_t w = 0; w < W; ++w) e[w] += fv * b[w];
+          if (fv > 0) seen.emplace_back(j, fv);
         }
+        auto accumulate = [&](const std::vector<double>& B, double* e) {
+          for (const auto& [j, fv] : seen)
+            for (std::size_t w = 0; w < W; ++w) e[w] += fv * B[j * W + w];
+        };
+        accumulate(sol.radiosity, &sol.probes[k].irradiance[q * W]);
+        for (auto& c : sol.contributions) accumulate(c.radiosity, &c.probes[k].irradiance[q * W]);
       }
     });
     check_cancel(control);

@@ -46,12 +46,24 @@ struct SolveStats {
   double max_patch_area_m2 = 0;
 };
 
+// One source's share of the solution (output.per_source). The radiosity equation is linear in the
+// sources, so the contributions add up to the joint solution: a client can dim or recolour a source
+// by scaling its contribution, without solving again.
+struct SourceContribution {
+  std::string pointer;              // "/lights/2" or "/surfaces/5" (an emitting surface)
+  std::string name;                 // the surface's name, or the light's type
+  std::vector<double> radiosity;    // [patch][λ] flat, like Solution::radiosity
+  std::vector<double> irradiance;   // [patch][λ] flat
+  std::vector<ProbeResult> probes;  // parallel to Scene::probes
+};
+
 struct Solution {
   WavelengthGrid grid;
   std::vector<Patch> patches;
   std::vector<double> radiosity;    // [patch][λ] flat, W m^-2 nm^-1 (B)
   std::vector<double> irradiance;   // [patch][λ] flat, W m^-2 nm^-1 (H)
   std::vector<ProbeResult> probes;  // parallel to Scene::probes
+  std::vector<SourceContribution> contributions;  // with output.per_source: lights, then emitters
   SolveStats stats;
   std::vector<std::string> warnings;
   std::size_t wavelengths() const { return grid.size(); }

@@ -124,6 +124,25 @@ Report make_report(const Scene& scene, const Solution& sol) {
     out.min_over_mean = out.mean_lx > 0 ? out.min_lx / out.mean_lx : 0;
     out.min_over_max = out.max_lx > 0 ? out.min_lx / out.max_lx : 0;
   }
+  // Per-source photometry: the same conversions applied to each contribution (linear, so the
+  // values add up to the joint ones in spectral mode as well as in rgb mode).
+  std::vector<double> e(W);
+  for (const SourceContribution& c : sol.contributions) {
+    SourceReport& out = report.sources.emplace_back();
+    for (std::size_t i = 0; i < N; ++i) {
+      std::copy(c.irradiance.begin() + i * W, c.irradiance.begin() + (i + 1) * W, e.begin());
+      out.patch_illuminance_lx.push_back(photometer.luminous(e));
+      for (std::size_t w = 0; w < W; ++w) e[w] = c.radiosity[i * W + w] / kPi;
+      out.patch_luminance_cd_m2.push_back(photometer.luminous(e));
+    }
+    for (const ProbeResult& probe : c.probes) {
+      auto& lux = out.probe_illuminance_lx.emplace_back();
+      for (std::size_t q = 0; W && q < probe.irradiance.size() / W; ++q) {
+        std::copy(probe.irradiance.begin() + q * W, probe.irradiance.begin() + (q + 1) * W, e.begin());
+        lux.push_back(photometer.luminous(e));
+      }
+    }
+  }
   return report;
 }
 

@@ -48,10 +48,17 @@ struct ProbeSummary {
   double min_over_mean = 0, min_over_max = 0;  // uniformities (0 when the mean or max is 0)
 };
 
+// Photometry of one source's contribution (Solution::contributions), parallel to it.
+struct SourceReport {
+  std::vector<double> patch_illuminance_lx, patch_luminance_cd_m2;  // per patch
+  std::vector<std::vector<double>> probe_illuminance_lx;             // per probe, per point
+};
+
 struct Report {
   std::vector<PatchPhotometry> patches;
   std::vector<SurfaceSummary> surfaces;
   std::vector<ProbeSummary> probes;
+  std::vector<SourceReport> sources;
 };
 
 Report make_report(const Scene& scene, const Solution& solution);

@@ -78,7 +78,10 @@ struct SolverOptions {
   int max_iterations = 10000;
 };
 
-struct OutputOptions { bool spectral = true; };
+struct OutputOptions {
+  bool spectral = true;
+  bool per_source = false;  // also return each source's contribution (the solution is linear in them)
+};
 
 struct Scene {
   int format_version = 1;

@@ -156,3 +156,51 @@ TEST(Radiosity, CancellationIsHonoured) {
 
 }  // namespace
 }  // namespace lambert
+
+namespace lambert {
+namespace {
+
+TEST(Superposition, PerSourceSolutionsAddUpToTheJointSolution) {
+  // The radiosity equation is linear in the sources: with output.per_source each light and each
+  // emitting surface is solved alone, and the contributions must sum to the joint solution (two
+  // independent GMRES solves; tolerance 1e-9). Scaling a light by 3 and solving again must give
+  // 3 times its contribution.
+  auto build = [](double point_scale) {
+    test::SceneBuilder b({450, 550, 650});
+    Scene& scene = b.scene();
+    scene.materials.push_back({"red", {0.1, 0.3, 0.8}});
+    const int red = 0;
+    const int white = b.material("white", 0.7);
+    b.surface("room", white, test::box({0, 0, 0}, {3, 2, 2.5}, true));
+    b.surface("panel", red, test::rectangle({1, 0.5, 2.49}, {0, 1, 0}, {1, 0, 0}), 2.0);
+    b.point_light({0.7, 1.2, 1.5}, 5.0 * point_scale);
+    b.probe("desk", {1.5, 1.0, 0.8}, {0, 0, 1});
+    b.max_patch_area(0.08);
+    scene.solver.tolerance = 1e-10;
+    scene.output.per_source = true;
+    return scene;
+  };
+  const Scene scene = build(1.0);
+  const Solution sol = solve(scene);
+  ASSERT_EQ(sol.contributions.size(), 2u);  // the point light, then the panel
+  EXPECT_EQ(sol.contributions[0].pointer, "/lights/0");
+  EXPECT_EQ(sol.contributions[1].name, "panel");
+  for (std::size_t k = 0; k < sol.radiosity.size(); ++k) {
+    const double sum = sol.contributions[0].radiosity[k] + sol.contributions[1].radiosity[k];
+    ASSERT_NEAR(sum, sol.radiosity[k], 1e-9 * std::max(1.0, sol.radiosity[k]));
+    const double h = sol.contributions[0].irradiance[k] + sol.contributions[1].irradiance[k];
+    ASSERT_NEAR(h, sol.irradiance[k], 1e-9 * std::max(1.0, sol.irradiance[k]));
+  }
+  for (std::size_t w = 0; w < 3; ++w) {
+    const double sum = sol.contributions[0].probes[0].irradiance[w] + sol.contributions[1].probes[0].irradiance[w];
+    EXPECT_NEAR(sum, sol.probes[0].irradiance[w], 1e-9 * sol.probes[0].irradiance[w]);
+  }
+  const Solution brighter = solve(build(3.0));
+  for (std::size_t k = 0; k < sol.radiosity.size(); ++k) {
+    const double expected = 3 * sol.contributions[0].radiosity[k] + sol.contributions[1].radiosity[k];
+    ASSERT_NEAR(brighter.radiosity[k], expected, 1e-8 * std::max(1.0, expected));
+  }
+}
+
+}  // namespace
+}  // namespace lambert
