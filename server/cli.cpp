@@ -11,6 +11,7 @@
 #include "server/result_codec.h"
 #include "server/scene_codec.h"
 #include "server/bench_command.h"
+#include "server/cli_common.h"
 #include "server/compare_command.h"
 #include "server/serve_command.h"
 #include "solver/radiosity.h"
@@ -33,19 +34,10 @@ int usage_error(const std::string& message) {
   return 2;
 }
 
-bool read_file(const std::string& path, std::string& text) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return false;
-  std::ostringstream buffer;
-  buffer << in.rdbuf();
-  text = buffer.str();
-  return true;
-}
-
 // Decodes a scene file; prints errors and returns nullopt when it is invalid.
 std::optional<lambert::Scene> load_scene(const std::string& path) {
   std::string text;
-  if (!read_file(path, text)) {
+  if (!lambert::read_text_file(path, text)) {
     std::cerr << "lambert: cannot read " << path << "\n";
     return std::nullopt;
   }
@@ -74,31 +66,15 @@ int check(const std::vector<std::string>& args) {
 }
 
 int solve(const std::vector<std::string>& args) {
-  std::string scene_path, output_path;
-  for (std::size_t k = 0; k < args.size(); ++k) {
-    if (args[k] == "-o" || args[k] == "--output") {
-      if (k + 1 >= args.size()) return usage_error("-o needs a file name");
-      output_path = args[++k];
-    } else if (!args[k].empty() && args[k][0] == '-') {
-      return usage_error("unknown option " + args[k]);
-    } else if (scene_path.empty()) {
-      scene_path = args[k];
-    } else {
-      return usage_error("solve takes one scene file");
-    }
-  }
-  if (scene_path.empty()) return usage_error("solve needs a scene file");
-  const auto scene = load_scene(scene_path);
+  bool help = false;
+  const auto parsed = lambert::parse_scene_command(args, "solve", kUsage, help);
+  if (!parsed) return help ? 0 : 2;
+  const std::string& output_path = parsed->output_path;
+  const auto scene = load_scene(parsed->scene_path);
   if (!scene) return 2;
 
   lambert::SolveControl control;
-  if (isatty(STDERR_FILENO)) {
-    control.progress = [last = -1](double f) mutable {
-      const int percent = static_cast<int>(f * 100);
-      if (percent != last) std::fprintf(stderr, "\rsolving: %3d %%", last = percent);
-      if (percent >= 100) std::fprintf(stderr, "\n");
-    };
-  }
+  control.progress = lambert::terminal_progress();
   try {
     const lambert::Solution solution = lambert::solve(*scene, control);
     const lambert::Report report = lambert::make_report(*scene, solution);

@@ -17,6 +17,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "server/cli_common.h"
 #include "solver/report.h"
 #include "solver/rgb_model.h"
 
@@ -38,10 +39,6 @@ constexpr const char* kUsage =
     "  solves the spectral scene as given and again in rgb mode, and reports per patch the CIEDE2000\n"
     "  colour difference and the relative illuminance difference (summary on stdout, JSON with -o)\n";
 
-int usage_error(const std::string& message) {
-  std::cerr << "lambert compare-rgb: " << message << "\n" << kUsage;
-  return 2;
-}
 
 Statistics statistics(std::vector<double> values) {
   Statistics s;
@@ -69,14 +66,6 @@ json statistics_json(const Statistics& s) {
   return {{"count", s.count}, {"mean", s.mean}, {"median", s.median}, {"p95", s.p95}, {"max", s.max}};
 }
 
-bool read_text(const std::string& path, std::string& text) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return false;
-  std::ostringstream buffer;
-  buffer << in.rdbuf();
-  text = buffer.str();
-  return true;
-}
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -315,25 +304,13 @@ std::string summarize_comparison(const Scene& spectral, const RgbComparison& c) 
 }
 
 int run_compare_rgb(const std::vector<std::string>& args) {
-  std::string scene_path, output_path;
-  for (std::size_t k = 0; k < args.size(); ++k) {
-    if (args[k] == "-o" || args[k] == "--output") {
-      if (k + 1 >= args.size()) return usage_error("-o needs a file name");
-      output_path = args[++k];
-    } else if (args[k] == "-h" || args[k] == "--help") {
-      std::cout << kUsage;
-      return 0;
-    } else if (!args[k].empty() && args[k][0] == '-') {
-      return usage_error("unknown option " + args[k]);
-    } else if (scene_path.empty()) {
-      scene_path = args[k];
-    } else {
-      return usage_error("compare-rgb takes one scene file");
-    }
-  }
-  if (scene_path.empty()) return usage_error("compare-rgb needs a scene file");
+  bool help = false;
+  const auto parsed = parse_scene_command(args, "compare-rgb", kUsage, help);
+  if (!parsed) return help ? 0 : 2;
+  const std::string& scene_path = parsed->scene_path;
+  const std::string& output_path = parsed->output_path;
   std::string text;
-  if (!read_text(scene_path, text)) {
+  if (!read_text_file(scene_path, text)) {
     std::cerr << "lambert: cannot read " << scene_path << "\n";
     return 2;
   }
@@ -356,13 +333,7 @@ int run_compare_rgb(const std::vector<std::string>& args) {
   }
 
   SolveControl control;
-  if (isatty(STDERR_FILENO)) {
-    control.progress = [last = -1](double f) mutable {
-      const int percent = static_cast<int>(f * 100);
-      if (percent != last) std::fprintf(stderr, "\rsolving: %3d %%", last = percent);
-      if (percent >= 100) std::fprintf(stderr, "\n");
-    };
-  }
+  control.progress = terminal_progress();
   try {
     const RgbComparison comparison = compare_rgb(*spectral.scene, *rgb.scene, control);
     std::cout << summarize_comparison(*spectral.scene, comparison);

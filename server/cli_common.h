@@ -1,0 +1,29 @@
+// Pieces every `lambert` subcommand shares: "SCENE.json [-o OUT]" arguments, reading a file, and the
+// terminal progress display.
+#pragma once
+
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace lambert {
+
+struct SceneCommandArgs {
+  std::string scene_path;
+  std::string output_path;  // empty: none given
+};
+
+// Parses "SCENE.json [-o|--output FILE]". On bad usage prints "lambert COMMAND: why" and the usage
+// text to stderr and returns nullopt; "-h"/"--help" prints the usage to stdout and sets `help`.
+std::optional<SceneCommandArgs> parse_scene_command(const std::vector<std::string>& args,
+                                                    const std::string& command, const char* usage,
+                                                    bool& help);
+
+// Whole file as bytes; false if it cannot be read.
+bool read_text_file(const std::string& path, std::string& text);
+
+// A progress callback that redraws "solving: NN %" on stderr when stderr is a terminal (else none).
+std::function<void(double)> terminal_progress();
+
+}  // namespace lambert
