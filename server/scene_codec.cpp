@@ -1603,13 +1603,22 @@ void Decoder::decode_options(const json& doc) {
       if (auto v = boolean(*a, "/meshing/adaptive")) scene_.meshing.adaptive = *v;
   }
   const json* s = member(doc, "solver");
-  if (s && object(*s, "/solver", {"tolerance", "max_iterations"})) {
+  if (s && object(*s, "/solver", {"tolerance", "max_iterations", "method", "accuracy"})) {
     if (const json* t = member(*s, "tolerance"))
       if (auto v = number_in(*t, "/solver/tolerance", 0, false, 0.1, true))
         scene_.solver.tolerance = *v;
     if (const json* t = member(*s, "max_iterations"))
       if (auto v = whole(*t, "/solver/max_iterations", 1, 1000000))
         scene_.solver.max_iterations = static_cast<int>(*v);
+    if (const json* t = member(*s, "method"))
+      if (auto v = string(*t, "/solver/method")) {
+        if (*v == "auto") scene_.solver.method = SolverMethod::Auto;
+        else if (*v == "dense") scene_.solver.method = SolverMethod::Dense;
+        else if (*v == "hierarchical") scene_.solver.method = SolverMethod::Hierarchical;
+        else error("/solver/method", "unknown method \"" + *v + "\" (expected \"auto\", \"dense\" or \"hierarchical\")");
+      }
+    if (const json* t = member(*s, "accuracy"))
+      if (auto v = number_in(*t, "/solver/accuracy", 0, false, 0.1, true)) scene_.solver.accuracy = *v;
   }
   if (const json* o = member(doc, "output"); o && object(*o, "/output", {"spectral", "per_source"})) {
     if (const json* s = member(*o, "spectral"))

@@ -23,7 +23,10 @@ double norm(const double* v, std::size_t n) {
 }
 
 // Y[k] = V[k] − ρ_k ⊙ (F V[k]) for the systems in `batch`; V and Y hold one n-vector per system.
-void apply_batch(const std::vector<double>& F, std::size_t n, const std::vector<RadiositySystem*>& batch,
+using SystemOperator = std::function<void(const std::vector<RadiositySystem*>& batch,
+                                          const std::vector<const double*>& V, const std::vector<double*>& Y)>;
+
+void apply_dense(const std::vector<double>& F, std::size_t n, const std::vector<RadiositySystem*>& batch,
                  const std::vector<const double*>& V, const std::vector<double*>& Y) {
   const std::size_t K = batch.size();
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 16), [&](const auto& range) {
@@ -66,8 +69,8 @@ void update_solution(Krylov& s, RadiositySystem& sys, std::size_t n) {
     for (std::size_t k = 0; k < n; ++k) sys.x[k] += y[i] * s.V[i][k];
 }
 
-void solve_batch(const std::vector<double>& F, std::size_t n, std::vector<RadiositySystem*>& batch, double tolerance,
-                 int max_iterations, const std::function<bool()>& cancelled) {
+void solve_batch(const SystemOperator& apply_batch, std::size_t n, std::vector<RadiositySystem*>& batch,
+                 double tolerance, int max_iterations, const std::function<bool()>& cancelled) {
   std::vector<Krylov> state;
   state.reserve(batch.size());
   for (RadiositySystem* sys : batch) {
@@ -98,7 +101,7 @@ void solve_batch(const std::vector<double>& F, std::size_t n, std::vector<Radios
         in.push_back(batch[k]->x.data());
         out.push_back(state[k].w.data());
       }
-    if (!live.empty()) apply_batch(F, n, live, in, out);
+    if (!live.empty()) apply_batch(live, in, out);
     for (std::size_t k = 0; k < batch.size(); ++k) {
       Krylov& s = state[k];
       if (s.done || s.cycle_open) continue;
@@ -131,7 +134,7 @@ void solve_batch(const std::vector<double>& F, std::size_t n, std::vector<Radios
         index.push_back(k);
       }
     if (live.empty()) return;
-    apply_batch(F, n, live, in, out);
+    apply_batch(live, in, out);
     for (std::size_t k : index) {
       Krylov& s = state[k];
       RadiositySystem& sys = *batch[k];
@@ -168,15 +171,36 @@ void solve_batch(const std::vector<double>& F, std::size_t n, std::vector<Radios
   }
 }
 
+void solve_all(const SystemOperator& apply_batch, std::size_t n, std::vector<RadiositySystem>& systems,
+               double tolerance, int max_iterations, const std::function<bool()>& cancelled) {
+  for (std::size_t start = 0; start < systems.size(); start += kBatch) {
+    std::vector<RadiositySystem*> batch;
+    for (std::size_t k = start; k < std::min(systems.size(), start + kBatch); ++k) batch.push_back(&systems[k]);
+    solve_batch(apply_batch, n, batch, tolerance, max_iterations, cancelled);
+  }
+}
+
 }  // namespace
 
 void solve_radiosity_systems(const std::vector<double>& F, std::size_t n, std::vector<RadiositySystem>& systems,
                              double tolerance, int max_iterations, const std::function<bool()>& cancelled) {
-  for (std::size_t start = 0; start < systems.size(); start += kBatch) {
-    std::vector<RadiositySystem*> batch;
-    for (std::size_t k = start; k < std::min(systems.size(), start + kBatch); ++k) batch.push_back(&systems[k]);
-    solve_batch(F, n, batch, tolerance, max_iterations, cancelled);
-  }
+  solve_all([&](const std::vector<RadiositySystem*>& batch, const std::vector<const double*>& V,
+                const std::vector<double*>& Y) { apply_dense(F, n, batch, V, Y); },
+            n, systems, tolerance, max_iterations, cancelled);
+}
+
+void solve_radiosity_systems(std::size_t n, const BatchOperator& apply_F, std::vector<RadiositySystem>& systems,
+                             double tolerance, int max_iterations, const std::function<bool()>& cancelled) {
+  solve_all(
+      [&](const std::vector<RadiositySystem*>& batch, const std::vector<const double*>& V,
+          const std::vector<double*>& Y) {
+        apply_F(V, Y);  // Y = F V, then Y = V − ρ ⊙ Y in place
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024), [&](const auto& range) {
+          for (std::size_t k = 0; k < batch.size(); ++k)
+            for (std::size_t i = range.begin(); i != range.end(); ++i) Y[k][i] = V[k][i] - batch[k]->rho[i] * Y[k][i];
+        });
+      },
+      n, systems, tolerance, max_iterations, cancelled);
 }
 
 }  // namespace lambert

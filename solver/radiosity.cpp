@@ -14,6 +14,7 @@
 
 #include "mesh/mesh_ops.h"
 #include "solver/form_factor.h"
+#include "solver/hierarchical.h"
 #include "solver/light_model.h"
 #include "solver/linear_solve.h"
 #include "solver/visibility.h"
@@ -103,6 +104,24 @@ double default_max_patch_area(const Scene& scene) {
 }
 
 Solution solve(const Scene& scene, const SolveControl& control) {
+  // Method selection (scene.h SolverMethod): Auto estimates the meshed patch count from the areas.
+  SolverMethod method = scene.solver.method;
+  if (method == SolverMethod::Auto) {
+    const double max_area = scene.meshing.max_patch_area_m2.value_or(default_max_patch_area(scene));
+    double patches = 0;
+    for (const Surface& s : scene.surfaces)
+      for (std::size_t t = 0; t < s.mesh.triangles.size(); ++t)
+        patches += std::max(1.0, std::ceil(s.mesh.triangle(t).area() / max_area));
+    method = patches <= kDenseAutoPatches || scene.output.per_source ? SolverMethod::Dense : SolverMethod::Hierarchical;
+  }
+  if (method == SolverMethod::Hierarchical) {
+    if (scene.output.per_source) throw SolveError("output.per_source is not available with solver.method \"hierarchical\"");
+    Solution sol = solve_hierarchical(scene, control);
+    sol.warnings.push_back("solved with the experimental hierarchical method: expect errors of a few per cent "
+                           "(closed rows were corrected by up to " +
+                           std::to_string(sol.stats.max_closure_error) + "); see stats");
+    return sol;
+  }
   const auto t_start = Clock::now();
   Solution sol;
   sol.grid = scene.grid;

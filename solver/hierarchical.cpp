@@ -1,0 +1,1019 @@
+// Hierarchical radiosity with clusters (see hierarchical.h for the method and its references).
+// Stages, each timed in SolveStats: meshing (roots, element trees, cluster BVH) -> visibility scene ->
+// direct light -> refine–solve rounds (links = form factors; GMRES = solve) -> closure -> outputs ->
+// probes -> energy.
+#include "solver/hierarchical.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/combinable.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <set>
+#include <unordered_map>
+
+#include "mesh/mesh_ops.h"
+#include "solver/cubature.h"
+#include "solver/form_factor.h"
+#include "solver/light_model.h"
+#include "solver/linear_solve.h"
+#include "solver/visibility.h"
+#include "solver/visible_fraction.h"
+
+namespace lambert {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+constexpr int kRootLevels = 3;         // a root holds at most 4^3 = 64 output patches
+constexpr int kRefineRounds = 3;
+// ε = accuracy × (mean radiosity) / kPowerShare: the irradiance error a link may carry at the patch
+// scale (see Refiner::area_weight above it). Not yet calibrated against measured errors.
+constexpr double kPowerShare = 1;
+constexpr double kUnitPatches = 4;   // the oracle's area weight starts above this many patches
+constexpr double kWellSeparated = 1.5;  // cluster links need d ≥ 1.5 (r_source + r_receiver)
+constexpr std::size_t kMaxBatch = 16;   // systems per gather pass (the GMRES batch size)
+
+struct Element {
+  Triangle tri;
+  Vector3 normal;
+  Point3 centre;
+  double radius = 0;   // about the centroid
+  double area = 0;
+  int surface = 0;
+  int parent = -1;
+  int first_child = -1;  // four children, contiguous; -1 for a leaf
+  int leaf = -1;         // index of the unknown (output patch) for a leaf
+  int root = -1;         // the root element of its tree
+};
+
+// Axis directions of the projected-area bins: +x, −x, +y, −y, +z, −z.
+using Bins = std::array<double, 6>;
+Bins projected_bins(const Vector3& n, double area) {
+  Bins b{};
+  const double c[3] = {n.x, n.y, n.z};
+  for (int a = 0; a < 3; ++a) (c[a] > 0 ? b[2 * a] : b[2 * a + 1]) = area * std::abs(c[a]);
+  return b;
+}
+
+struct Cluster {
+  Bounds3 box;
+  Point3 centre;
+  double radius = 0;
+  Bins projected{};          // Σ A (n·e_k)⁺ over its roots
+  int child[2] = {-1, -1};   // clusters; both −1 for a BVH leaf
+  int root = -1;             // the root element of a BVH leaf
+  int first_root = 0, root_count = 0;  // range in Hierarchy::root_order
+};
+
+struct Link {
+  int receiver = 0;          // element
+  int source = 0;            // element or cluster
+  bool from_cluster = false;
+  std::array<unsigned char, 3> bin{};
+  std::array<float, 3> coeff{};  // element source: F at the receiver's vertices (linear); cluster: weights of Φ_bin
+  float error_per_B = 0;     // error bound of the factor: irradiance error per unit source radiosity
+};
+
+// Whether any part of triangle b lies strictly in front of the plane of triangle a.
+bool any_in_front(const Triangle& a, const Vector3& na, const Triangle& b) {
+  const double scale = a.max_edge_length() + b.max_edge_length();
+  for (const Point3& v : b.v)
+    if (dot(v - a.v[0], na) > 1e-12 * scale) return true;
+  return false;
+}
+bool box_in_front(const Bounds3& box, const Point3& o, const Vector3& n, double tol) {
+  for (int c = 0; c < 8; ++c) {
+    const Point3 p{c & 1 ? box.hi.x : box.lo.x, c & 2 ? box.hi.y : box.lo.y, c & 4 ? box.hi.z : box.lo.z};
+    if (dot(p - o, n) > tol) return true;
+  }
+  return false;
+}
+
+double link_weight(const Point3& p, const Vector3& np, const Point3& q, const Vector3& nq) {
+  const Vector3 d = q - p;
+  const double r2 = length_squared(d);
+  return std::max(0.0, dot(np, d)) * std::max(0.0, -dot(nq, d)) / (r2 * r2);
+}
+
+class Hierarchy {
+ public:
+  std::vector<Element> elements;
+  std::vector<int> roots;           // element index of every root
+  std::vector<std::pair<int, int>> root_block;  // [first, end) of each root's tree in `elements`
+  std::vector<int> root_order;      // roots in BVH order (cluster ranges index into it)
+  std::vector<Cluster> clusters;    // clusters[0] is the top
+  std::vector<int> leaves;          // element of each unknown
+  std::vector<Link> links;
+  std::vector<std::size_t> link_start;  // CSR over receivers: links of element e in [start[e], start[e+1])
+  std::vector<double> leaf_scale;   // closure scaling of the gathered irradiance per leaf (1 if open)
+
+  // Per-node values of one gather pass, K systems interleaved ([node][k]).
+  struct Values {
+    std::size_t K = 0;
+    std::vector<double> B;    // per element: area-mean radiosity
+    std::vector<double> Phi;  // per cluster: 6 bins × K
+  };
+
+  void pull(const std::vector<const double*>& V, Values& out) const {
+    const std::size_t K = V.size();
+    out.K = K;
+    out.B.assign(elements.size() * K, 0.0);
+    out.Phi.assign(clusters.size() * 6 * K, 0.0);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, root_block.size(), 8), [&](const auto& range) {
+      for (std::size_t r = range.begin(); r != range.end(); ++r) {
+        const auto [first, end] = root_block[r];
+        for (int e = end - 1; e >= first; --e) {  // children come after their parent
+          const Element& el = elements[e];
+          double* b = &out.B[e * K];
+          if (el.leaf >= 0) {
+            for (std::size_t k = 0; k < K; ++k) b[k] = V[k][el.leaf];
+          } else {
+            for (int c = 0; c < 4; ++c) {
+              const double w = elements[el.first_child + c].area / el.area;
+              const double* bc = &out.B[(el.first_child + c) * K];
+              for (std::size_t k = 0; k < K; ++k) b[k] += w * bc[k];
+            }
+          }
+        }
+      }
+    });
+    for (std::size_t c = clusters.size(); c-- > 0;) {  // children come after their parent
+      const Cluster& cl = clusters[c];
+      double* phi = &out.Phi[c * 6 * K];
+      if (cl.root >= 0) {
+        const double* b = &out.B[cl.root * K];
+        for (int bin = 0; bin < 6; ++bin)
+          for (std::size_t k = 0; k < K; ++k) phi[bin * K + k] = cl.projected[bin] * b[k];
+      } else {
+        for (int ch : cl.child) {
+          const double* p = &out.Phi[ch * 6 * K];
+          for (std::size_t q = 0; q < 6 * K; ++q) phi[q] += p[q];
+        }
+      }
+    }
+  }
+
+  // Gathered irradiance at element e from its own links (not its ancestors'), K systems, as a linear
+  // field over the element: its values at the three vertices, h[v K + k].
+  void gather_links(int e, const Values& v, double* h) const {
+    const std::size_t K = v.K;
+    for (std::size_t l = link_start[e]; l < link_start[e + 1]; ++l) {
+      const Link& link = links[l];
+      if (!link.from_cluster) {
+        const double* b = &v.B[link.source * K];
+        for (int n = 0; n < 3; ++n)
+          for (std::size_t k = 0; k < K; ++k) h[n * K + k] += link.coeff[n] * b[k];
+      } else {
+        const double* phi = &v.Phi[link.source * 6 * K];
+        for (std::size_t k = 0; k < K; ++k) {
+          double c = 0;
+          for (int a = 0; a < 3; ++a) c += link.coeff[a] * phi[link.bin[a] * K + k];
+          for (int n = 0; n < 3; ++n) h[n * K + k] += c;
+        }
+      }
+    }
+  }
+
+  // FV[k] = F V[k] over the leaves: pull, gather, push (the parent's linear field evaluated at the
+  // child's vertices: split4's children are {v0, m01, m20}, {m01, v1, m12}, {m20, m12, v2},
+  // {m01, m12, m20}), the leaf's mean, closure scaling.
+  void apply(const std::vector<const double*>& V, const std::vector<double*>& FV, bool scaled = true) const {
+    static constexpr double kChildVertex[4][3][3] = {
+        {{1, 0, 0}, {0.5, 0.5, 0}, {0.5, 0, 0.5}},
+        {{0.5, 0.5, 0}, {0, 1, 0}, {0, 0.5, 0.5}},
+        {{0.5, 0, 0.5}, {0, 0.5, 0.5}, {0, 0, 1}},
+        {{0.5, 0.5, 0}, {0, 0.5, 0.5}, {0.5, 0, 0.5}}};
+    Values v;
+    pull(V, v);
+    const std::size_t K = V.size();
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, root_block.size(), 8), [&](const auto& range) {
+      std::vector<double> H;
+      for (std::size_t r = range.begin(); r != range.end(); ++r) {
+        const auto [first, end] = root_block[r];
+        H.assign((end - first) * 3 * K, 0.0);
+        for (int e = first; e < end; ++e) {  // parents first: push down
+          const Element& el = elements[e];
+          double* h = &H[(e - first) * 3 * K];
+          if (el.parent >= 0) {
+            const double* hp = &H[(el.parent - first) * 3 * K];
+            const auto& at = kChildVertex[e - elements[el.parent].first_child];
+            for (int n = 0; n < 3; ++n)
+              for (int m = 0; m < 3; ++m)
+                if (at[n][m] != 0)
+                  for (std::size_t k = 0; k < K; ++k) h[n * K + k] += at[n][m] * hp[m * K + k];
+          }
+          gather_links(e, v, h);
+          if (el.leaf >= 0) {
+            const double s = (scaled ? leaf_scale[el.leaf] : 1.0) / 3;
+            for (std::size_t k = 0; k < K; ++k) FV[k][el.leaf] = s * (h[k] + h[K + k] + h[2 * K + k]);
+          }
+        }
+      }
+    });
+  }
+
+  bool has_children(int e) const { return elements[e].first_child >= 0; }
+};
+
+// Least-squares f ≈ Σ_v a_v β_v over points with barycentric coordinates β (normal equations, Cramer).
+template <std::size_t P>
+std::array<double, 3> linear_fit(const std::array<std::array<double, 3>, P>& beta, const std::array<double, P>& f) {
+  double m[3][3] = {}, r[3] = {};
+  for (std::size_t q = 0; q < P; ++q)
+    for (int u = 0; u < 3; ++u) {
+      r[u] += beta[q][u] * f[q];
+      for (int v = 0; v < 3; ++v) m[u][v] += beta[q][u] * beta[q][v];
+    }
+  auto det = [](const double (&x)[3][3]) {
+    return x[0][0] * (x[1][1] * x[2][2] - x[1][2] * x[2][1]) - x[0][1] * (x[1][0] * x[2][2] - x[1][2] * x[2][0]) +
+           x[0][2] * (x[1][0] * x[2][1] - x[1][1] * x[2][0]);
+  };
+  const double d = det(m);
+  std::array<double, 3> a{};
+  for (int c = 0; c < 3; ++c) {
+    double x[3][3];
+    for (int u = 0; u < 3; ++u)
+      for (int v = 0; v < 3; ++v) x[u][v] = v == c ? r[u] : m[u][v];
+    a[c] = det(x) / d;
+  }
+  return a;
+}
+
+// The root element drawn for visibility sample k (< 64) of a cluster: spread over its BVH range.
+int cluster_sample(const Hierarchy& h, const Cluster& C, int k) {
+  const int pick = (37 * k + 11) % kMaxVisibilitySamples;
+  return h.root_order[C.first_root + static_cast<int>(static_cast<long long>(pick) * C.root_count / kMaxVisibilitySamples)];
+}
+
+// The refinement of one (receiver element, source) pair into links, with the BF oracle.
+class Refiner {
+ public:
+  Refiner(const Hierarchy& h, const Visibility& vis, const std::vector<double>& element_B,
+          const std::vector<double>& cluster_B, double epsilon, double unit_area)
+      : h_(h), vis_(vis), element_B_(element_B), cluster_B_(cluster_B), epsilon_(epsilon), unit_area_(unit_area) {}
+
+  // The oracle bounds irradiance errors at the patch scale and power errors above it: an error of
+  // δE over a receiver of area A counts δE × max(1, A / unit_area). Coarse receivers (many patches)
+  // may err more per unit area, since their links are pushed down to children that also gather
+  // their own finer links; this keeps the link count near-linear.
+  double area_weight(const Element& R) const { return std::max(1.0, R.area / unit_area_); }
+
+  void refine_to_element(int r, int s, std::vector<Link>& out) const {
+    const Element& R = h_.elements[r];
+    const Element& S = h_.elements[s];
+    if (r == s || !any_in_front(R.tri, R.normal, S.tri) || !any_in_front(S.tri, S.normal, R.tri)) return;
+    const double B = element_B_[s];
+    // The point kernel at the receiver's degree-5 nodes: its spread is the error of giving every part
+    // of the receiver the same factor (push-down), its mean the factor of a far pair.
+    // The point kernel at the receiver's degree-5 nodes and next to its corners (it peaks at edges
+    // shared with the source), fitted by a linear function over the receiver (least squares in
+    // barycentric coordinates). The link carries that linear factor, so that push-down hands each
+    // child the factor at its own place; the fit's residual is the link's error.
+    const TriangleRule rule = triangle_rule_degree5();
+    constexpr int kPoints = 10;
+    std::array<std::array<double, 3>, kPoints> beta;
+    std::array<double, kPoints> f;
+    double mean = 0, hi = 0;
+    for (int q = 0; q < kPoints; ++q) {
+      if (q < rule.size) {
+        beta[q] = *(rule.nodes + q);
+      } else {
+        constexpr double t = 1e-3;
+        beta[q] = {t / 3, t / 3, t / 3};
+        beta[q][q - rule.size] += 1 - t;
+      }
+      const auto& w = beta[q];
+      f[q] = point_triangle_factor(barycentric(R.tri.v[0], R.tri.v[1], R.tri.v[2], w[0], w[1], w[2]), R.normal, S.tri);
+      if (q < rule.size) mean += rule.weights[q] * f[q];
+      hi = std::max(hi, f[q]);
+    }
+    if (hi <= 0) return;
+    std::array<double, 3> a = linear_fit(beta, f);
+    double residual = 0;
+    for (int q = 0; q < kPoints; ++q)
+      residual = std::max(residual, std::abs(f[q] - (a[0] * beta[q][0] + a[1] * beta[q][1] + a[2] * beta[q][2])));
+    const double weight = area_weight(R);
+    const bool splittable = h_.has_children(r) || h_.has_children(s);
+    if (splittable && B * residual * weight > epsilon_) return split(r, s, out);
+    // Near pairs: the receiver average by adaptive cubature (exact kernel, log-singular near contact).
+    const double separation = distance(R.centre, S.centre) / (R.radius + S.radius);
+    const double F = separation > 4 ? mean : area_form_factor(R.tri, S.tri) / R.area;
+    if (F <= 0) return;
+    const double shift = F - (a[0] + a[1] + a[2]) / 3;  // the linear factor's mean is F exactly
+    for (double& value : a) value += shift;
+    const double v = weighted_visible_fraction(
+        vis_,
+        [&](int k) {
+          return std::pair{vis_.lift(visibility_sample(R.tri, k), R.normal),
+                           vis_.lift(visibility_sample(S.tri, (37 * k + 11) % kMaxVisibilitySamples), S.normal)};
+        },
+        [&](const Point3& p, const Point3& q) { return link_weight(p, R.normal, q, S.normal); });
+    const double partial = v > 0 && v < 1 ? 0.5 * F : 0;
+    if (splittable && B * partial * weight > epsilon_) return split(r, s, out);
+    if (v <= 0) return;
+    Link link;
+    link.receiver = r;
+    link.source = s;
+    for (int k = 0; k < 3; ++k) link.coeff[k] = static_cast<float>(a[k] * v);
+    link.error_per_B = static_cast<float>((residual + partial) * weight);
+    out.push_back(link);
+  }
+
+  void refine_to_cluster(int r, int c, std::vector<Link>& out) const {
+    const Element& R = h_.elements[r];
+    const Cluster& C = h_.clusters[c];
+    if (C.root >= 0) return refine_to_element(r, C.root, out);
+    const double scale = R.radius + C.radius;
+    if (!box_in_front(C.box, R.tri.v[0], R.normal, 1e-12 * scale)) return;
+    const Vector3 d_vec = R.centre - C.centre;  // from the cluster to the receiver
+    const double d = length(d_vec);
+    const double d_min = d - C.radius - R.radius;
+    if (d >= kWellSeparated * scale && d_min > 0) {
+      const Vector3 w = d_vec / d;
+      const double wa[3] = {w.x, w.y, w.z};
+      double projected = 0;
+      std::array<unsigned char, 3> bin{};
+      for (int a = 0; a < 3; ++a) {
+        bin[a] = static_cast<unsigned char>(wa[a] > 0 ? 2 * a : 2 * a + 1);
+        projected += std::abs(wa[a]) * C.projected[bin[a]];
+      }
+      if (projected <= 0) return;  // every element of the cluster faces away from the receiver
+      // The transfer per unit radiosity is at most projected/(π d_min²) (cos θ_r ≤ 1, distance ≥ d_min);
+      // the one-point estimate errs by about the relative size (r_C + r_R)/d of the pair.
+      const double error_per_B = projected / (kPi * d_min * d_min) * scale / d * area_weight(R);
+      if (cluster_B_[c] * error_per_B <= epsilon_) {
+        const double cos_r = std::max(0.0, -dot(R.normal, w));
+        if (cos_r <= 0) return;
+        const double v = cluster_visible_fraction(R, C);
+        if (v <= 0) return;
+        Link link;
+        link.receiver = r;
+        link.source = c;
+        link.from_cluster = true;
+        link.bin = bin;
+        for (int a = 0; a < 3; ++a) link.coeff[a] = static_cast<float>(std::abs(wa[a]) * cos_r * v / (kPi * d * d));
+        link.error_per_B = static_cast<float>(error_per_B);
+        out.push_back(link);
+        return;
+      }
+    }
+    if (C.radius >= R.radius || !h_.has_children(r)) {
+      for (int ch : C.child) refine_to_cluster(r, ch, out);
+    } else {
+      const int first = h_.elements[r].first_child;
+      for (int k = 0; k < 4; ++k) refine_to_cluster(first + k, c, out);
+    }
+  }
+
+  // Re-examines a kept link with the current radiosity: keeps it (false) or refines it (true).
+  bool recheck(const Link& link, std::vector<Link>& out) const {
+    const double B = link.from_cluster ? cluster_B_[link.source] : element_B_[link.source];
+    if (B * link.error_per_B <= epsilon_) {
+      out.push_back(link);
+      return false;
+    }
+    if (link.from_cluster) {
+      refine_to_cluster(link.receiver, link.source, out);
+    } else if (h_.has_children(link.receiver) || h_.has_children(link.source)) {
+      split(link.receiver, link.source, out);
+    } else {
+      out.push_back(link);  // leaves both: nothing finer to link
+      return false;
+    }
+    return true;
+  }
+
+ private:
+  // Splits the larger element of the pair (or the one that can be split) and links the children.
+  void split(int r, int s, std::vector<Link>& out) const {
+    const Element& R = h_.elements[r];
+    const Element& S = h_.elements[s];
+    const bool split_receiver = h_.has_children(r) && (!h_.has_children(s) || R.area >= S.area);
+    if (split_receiver) {
+      for (int k = 0; k < 4; ++k) refine_to_element(R.first_child + k, s, out);
+    } else {
+      for (int k = 0; k < 4; ++k) refine_to_element(r, S.first_child + k, out);
+    }
+  }
+
+  // Rays from the receiver to points of the cluster's roots, spread over its BVH range. Each is weighted
+  // by the differential kernel with the sampled element's own normal: elements of the cluster that
+  // face away (and are often hidden by the cluster itself) weigh nothing.
+  double cluster_visible_fraction(const Element& R, const Cluster& C) const {
+    Vector3 source_normal;  // of the sample just drawn (weight() follows endpoints() for each ray)
+    return weighted_visible_fraction(
+        vis_,
+        [&](int k) {
+          const Element& S = h_.elements[cluster_sample(h_, C, k)];
+          source_normal = S.normal;
+          return std::pair{vis_.lift(visibility_sample(R.tri, k), R.normal),
+                           vis_.lift(visibility_sample(S.tri, k), S.normal)};
+        },
+        [&](const Point3& p, const Point3& q) { return link_weight(p, R.normal, q, source_normal); });
+  }
+
+  const Hierarchy& h_;
+  const Visibility& vis_;
+  const std::vector<double>& element_B_;
+  const std::vector<double>& cluster_B_;
+  double epsilon_;
+  double unit_area_;
+};
+
+// Builds the BVH over roots[first, first + count) of `order` (median split on the longest axis of the
+// centroids); returns the cluster's index. Children are appended after their parent.
+int build_clusters(Hierarchy& h, int first, int count) {
+  const int index = static_cast<int>(h.clusters.size());
+  h.clusters.emplace_back();
+  Bounds3 box, centroids;
+  Bins projected{};
+  for (int k = first; k < first + count; ++k) {
+    const Element& e = h.elements[h.root_order[k]];
+    for (const Point3& p : e.tri.v) box.add(p);
+    centroids.add(e.centre);
+    const Bins b = projected_bins(e.normal, e.area);
+    for (int q = 0; q < 6; ++q) projected[q] += b[q];
+  }
+  {
+    Cluster& c = h.clusters[index];
+    c.box = box;
+    c.centre = box.center();
+    c.radius = 0.5 * length(box.diagonal());
+    c.projected = projected;
+    c.first_root = first;
+    c.root_count = count;
+  }
+  if (count == 1) {
+    h.clusters[index].root = h.root_order[first];
+    return index;
+  }
+  const Vector3 extent = centroids.diagonal();
+  const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
+  auto key = [&](int e) {
+    const Point3& p = h.elements[e].centre;
+    return axis == 0 ? p.x : axis == 1 ? p.y : p.z;
+  };
+  const int half = count / 2;
+  std::nth_element(h.root_order.begin() + first, h.root_order.begin() + first + half,
+                   h.root_order.begin() + first + count, [&](int a, int b) { return key(a) < key(b); });
+  const int left = build_clusters(h, first, half);
+  const int right = build_clusters(h, first + half, count - half);
+  h.clusters[index].child[0] = left;
+  h.clusters[index].child[1] = right;
+  return index;
+}
+
+Element make_element(const Triangle& t, int surface, int parent, int root) {
+  Element e;
+  e.tri = t;
+  e.area = t.area();
+  e.normal = t.normal();
+  e.centre = t.centroid();
+  e.radius = std::max({distance(e.centre, t.v[0]), distance(e.centre, t.v[1]), distance(e.centre, t.v[2])});
+  e.surface = surface;
+  e.parent = parent;
+  e.root = root;
+  return e;
+}
+
+// Probes leaf i's hemisphere with cosine-distributed rays (a shifted Fibonacci lattice, as the dense
+// solver does): 1 closed (every ray hits the front of an element), 2 a ray hits a back face, 0 one
+// escapes.
+char hemisphere_is_closed(const Element& e, std::size_t i, int rays, const Visibility& vis,
+                          const std::vector<Vector3>& occluder_normals) {
+  const Vector3 n = e.normal;
+  const Vector3 t = normalize(std::abs(n.x) < 0.9 ? cross(n, Vector3{1, 0, 0}) : cross(n, Vector3{0, 1, 0}));
+  const Vector3 s = cross(n, t);
+  const double reach = vis.scene_extent();
+  constexpr double kGolden = 0.6180339887498949;
+  const double shift1 = std::fmod((i + 1) * 0.7548776662466927, 1.0);
+  const double shift2 = std::fmod((i + 1) * 0.5698402909980532, 1.0);
+  char result = 1;
+  for (int k = 0; k < rays; ++k) {
+    const double u1 = std::fmod((k + 0.5) / rays + shift1, 1.0);
+    const double u2 = std::fmod(k * kGolden + shift2, 1.0);
+    const double r = std::sqrt(u1), phi = 2 * kPi * u2;
+    const Vector3 d = t * (r * std::cos(phi)) + s * (r * std::sin(phi)) + n * std::sqrt(1 - u1);
+    const Point3 from = vis.lift(visibility_sample(e.tri, k % kMaxVisibilitySamples), n);
+    const int hit = vis.first_hit(from, from + d * reach);
+    if (hit < 0) return 0;
+    if (dot(occluder_normals[hit], d) >= 0) result = 2;
+  }
+  return result;
+}
+
+void check_cancel(const SolveControl& control) {
+  if (control.cancel && control.cancel->load(std::memory_order_relaxed)) throw SolveCancelled();
+}
+
+}  // namespace
+
+Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
+  const auto t_start = Clock::now();
+  Solution sol;
+  sol.grid = scene.grid;
+  sol.warnings = scene.warnings;
+  const std::size_t W = scene.grid.size();
+  auto report = [&](double f) { if (control.progress) control.progress(f); };
+  auto cancelled = [&] { return control.cancel && control.cancel->load(std::memory_order_relaxed); };
+
+  // ---- meshing: roots (pre-split input triangles), element trees down to the patch size, clusters ----
+  auto t0 = Clock::now();
+  const double max_area = scene.meshing.max_patch_area_m2.value_or(default_max_patch_area(scene));
+  sol.stats.max_patch_area_m2 = max_area;
+  Hierarchy h;
+  std::vector<Triangle> occluders;  // the roots, for Embree
+  {
+    double total_area = 0;
+    for (const Surface& s : scene.surfaces)
+      for (std::size_t t = 0; t < s.mesh.triangles.size(); ++t) total_area += s.mesh.triangle(t).area();
+    if (control.max_patches > 0 && total_area / max_area * (1 - 1e-9) > static_cast<double>(control.max_patches))
+      throw SolveError("meshing gives at least " + std::to_string(static_cast<std::size_t>(total_area / max_area)) +
+                       " patches, more than this server's limit of " + std::to_string(control.max_patches) +
+                       " (max_patches); increase meshing.max_patch_area");
+  }
+  const double root_area = max_area * std::pow(4.0, kRootLevels);
+  for (std::size_t s = 0; s < scene.surfaces.size(); ++s) {
+    const TriangleMesh pieces = subdivide_to_max_area(scene.surfaces[s].mesh, root_area);
+    for (std::size_t t = 0; t < pieces.triangles.size(); ++t) {
+      const Triangle tri = pieces.triangle(t);
+      if (!(tri.area() > 0)) continue;
+      const int root = static_cast<int>(h.elements.size());
+      h.elements.push_back(make_element(tri, static_cast<int>(s), -1, root));
+      h.roots.push_back(root);
+      occluders.push_back(tri);
+      // Breadth-first 1:4 splits until the leaves are no larger than max_area; a parent precedes its
+      // children, and the whole tree is one contiguous block.
+      for (int e = root; e < static_cast<int>(h.elements.size()); ++e) {
+        if (h.elements[e].area <= max_area) continue;
+        const auto children = split4(h.elements[e].tri);
+        h.elements[e].first_child = static_cast<int>(h.elements.size());
+        for (const Triangle& c : children) h.elements.push_back(make_element(c, static_cast<int>(s), e, root));
+      }
+      h.root_block.emplace_back(root, static_cast<int>(h.elements.size()));
+    }
+  }
+  for (std::size_t e = 0; e < h.elements.size(); ++e)
+    if (h.elements[e].first_child < 0) {
+      h.elements[e].leaf = static_cast<int>(h.leaves.size());
+      h.leaves.push_back(static_cast<int>(e));
+    }
+  const std::size_t N = h.leaves.size();
+  if (control.max_patches > 0 && N > control.max_patches)
+    throw SolveError("meshing gives " + std::to_string(N) + " patches, more than this server's limit of " +
+                     std::to_string(control.max_patches) + " (max_patches); increase meshing.max_patch_area");
+  h.root_order = h.roots;
+  if (!h.roots.empty()) build_clusters(h, 0, static_cast<int>(h.roots.size()));
+  sol.patches.resize(N);
+  for (std::size_t i = 0; i < N; ++i) {
+    const Element& e = h.elements[h.leaves[i]];
+    sol.patches[i] = Patch{e.surface, e.tri, e.area, e.normal};
+  }
+  sol.stats.patches = N;
+  sol.stats.time_meshing_s = seconds_since(t0);
+  check_cancel(control);
+  report(0.05);
+
+  // ---- visibility scene (the roots: the same surfaces, fewer triangles than the leaves) ----
+  t0 = Clock::now();
+  const Visibility vis(occluders);
+  std::vector<Vector3> occluder_normals(occluders.size());
+  for (std::size_t k = 0; k < occluders.size(); ++k) occluder_normals[k] = h.elements[h.roots[k]].normal;
+  sol.stats.time_visibility_s = seconds_since(t0);
+
+  // ---- per-leaf reflectance, emission, direct irradiance (as in the dense solver) ----
+  std::vector<double> rho(N * W), M(N * W, 0.0), E_direct(N * W, 0.0), E_point(N * W, 0.0);
+  bool any_emitter = false, any_reflector = false;
+  std::vector<std::unique_ptr<LightModel>> sources;
+  std::vector<int> source_of_light;  // for the spectral grouping key: which scene light, or −1 − root
+  for (const Light& light : scene.lights) sources.push_back(make_light_model(light));
+  // Phong-lobed emitters are direct sources per root (not per leaf: their count stays that of the roots).
+  for (int root : h.roots) {
+    const Surface& s = scene.surfaces[h.elements[root].surface];
+    if (s.emission && s.emission->lobe_exponent != 1.0)
+      sources.push_back(make_phong_emitter(h.elements[root].tri, s.emission->lobe_exponent, s.emission->exitance_W_m2_nm));
+  }
+  for (std::size_t i = 0; i < N; ++i) {
+    const Surface& s = scene.surfaces[sol.patches[i].surface];
+    const auto& refl = scene.materials[s.material].reflectance;
+    for (std::size_t w = 0; w < W; ++w) {
+      rho[i * W + w] = refl[w];
+      any_reflector |= refl[w] != 0;
+    }
+    if (s.emission && s.emission->lobe_exponent == 1.0) {
+      for (std::size_t w = 0; w < W; ++w) M[i * W + w] = s.emission->exitance_W_m2_nm[w];
+      any_emitter = true;
+    }
+  }
+  if (!sources.empty()) {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, N, 16), [&](const auto& range) {
+      for (std::size_t i = range.begin(); i != range.end(); ++i) {
+        for (const auto& source : sources) {
+          const double g = source->patch_factor(sol.patches[i].triangle, vis);
+          if (g == 0) continue;
+          const auto& S = source->spectrum();
+          const bool known_flux = source->flux_factor() > 0;
+          for (std::size_t w = 0; w < W; ++w) {
+            E_direct[i * W + w] += g * S[w];
+            if (known_flux) E_point[i * W + w] += g * S[w];
+          }
+        }
+      }
+    });
+  }
+  check_cancel(control);
+  report(0.1);
+
+  // ---- spectral systems: one per distinct (reflectance column, right-hand side) ----
+  // Key: ρ over materials, emission over surfaces and the spectrum of every direct source at λ; the
+  // right-hand side b = M + ρ E_direct is a function of exactly these.
+  std::vector<RadiositySystem> systems;
+  std::vector<std::size_t> wavelength_system(W);
+  {
+    std::map<std::vector<double>, std::size_t> system_of;
+    for (std::size_t w = 0; w < W; ++w) {
+      std::vector<double> key;
+      for (const Material& m : scene.materials) key.push_back(m.reflectance[w]);
+      for (const Surface& s : scene.surfaces) key.push_back(s.emission ? s.emission->exitance_W_m2_nm[w] : 0.0);
+      for (const auto& source : sources) key.push_back(source->spectrum()[w]);
+      auto [it, inserted] = system_of.try_emplace(key, systems.size());
+      if (inserted) {
+        RadiositySystem& sys = systems.emplace_back();
+        sys.rho.resize(N);
+        sys.b.resize(N);
+        for (std::size_t i = 0; i < N; ++i) {
+          sys.rho[i] = rho[i * W + w];
+          sys.b[i] = M[i * W + w] + rho[i * W + w] * E_direct[i * W + w];
+        }
+        sys.x = sys.b;
+      }
+      wavelength_system[w] = it->second;
+    }
+  }
+  const std::size_t K = systems.size();
+  const bool need_links = any_emitter || (any_reflector && !sources.empty());
+
+  // Radiosity for the oracle: per leaf the largest |B| over the systems, pulled up (area mean per
+  // element, max per cluster).
+  auto oracle_values = [&](const std::vector<double>& leaf_B, std::vector<double>& element_B,
+                           std::vector<double>& cluster_B) {
+    Hierarchy::Values v;
+    h.pull({leaf_B.data()}, v);
+    element_B = v.B;
+    std::vector<double> root_max(h.elements.size(), 0.0);  // the largest leaf of each root's tree
+    for (std::size_t i = 0; i < N; ++i) {
+      double& m = root_max[h.elements[h.leaves[i]].root];
+      m = std::max(m, leaf_B[i]);
+    }
+    cluster_B.assign(h.clusters.size(), 0.0);
+    for (std::size_t c = h.clusters.size(); c-- > 0;) {
+      const Cluster& cl = h.clusters[c];
+      cluster_B[c] = cl.root >= 0 ? root_max[cl.root] : std::max(cluster_B[cl.child[0]], cluster_B[cl.child[1]]);
+    }
+  };
+  auto largest_B = [&](bool with_ambient) {
+    std::vector<double> leaf_B(N, 0.0);
+    double power = 0, area = 0, rho_mean = 0;
+    for (std::size_t i = 0; i < N; ++i) {
+      for (const auto& sys : systems) leaf_B[i] = std::max(leaf_B[i], std::abs(sys.x[i]));
+      power += sol.patches[i].area_m2 * leaf_B[i];
+      area += sol.patches[i].area_m2;
+      double r = 0;
+      for (const auto& sys : systems) r = std::max(r, std::abs(sys.rho[i]));
+      rho_mean += sol.patches[i].area_m2 * std::min(r, 0.95);
+    }
+    if (with_ambient && area > 0) {
+      // First round: unlit reflectors will receive about the mean interreflected irradiance.
+      rho_mean /= area;
+      const double ambient = power / area / (1 - rho_mean);
+      for (std::size_t i = 0; i < N; ++i) {
+        double r = 0;
+        for (const auto& sys : systems) r = std::max(r, std::abs(sys.rho[i]));
+        leaf_B[i] = std::max(leaf_B[i], r * ambient);
+      }
+    }
+    return std::pair{leaf_B, power};
+  };
+
+  double total_area = 0;
+  for (const Patch& p : sol.patches) total_area += p.area_m2;
+  h.leaf_scale.assign(N, 1.0);
+  double time_links = 0, time_solve = 0;
+  std::vector<char> closed(N, 0);
+  if (need_links && N > 0) {
+    const double accuracy = scene.solver.accuracy;
+    auto gather_all = [&](const std::vector<const double*>& V, const std::vector<double*>& FV) {
+      for (std::size_t start = 0; start < V.size(); start += kMaxBatch) {
+        const std::size_t end = std::min(V.size(), start + kMaxBatch);
+        h.apply({V.begin() + start, V.begin() + end}, {FV.begin() + start, FV.begin() + end});
+      }
+    };
+    for (int round = 0; round < kRefineRounds; ++round) {
+      // ---- links (form factors) ----
+      auto t1 = Clock::now();
+      const auto oracle = largest_B(round == 0);
+      const std::vector<double>& leaf_B = oracle.first;
+      const double power = oracle.second;
+      std::vector<double> element_B, cluster_B;
+      oracle_values(leaf_B, element_B, cluster_B);
+      const double epsilon = accuracy * power / total_area / kPowerShare;
+      const Refiner refiner(h, vis, element_B, cluster_B, epsilon, kUnitPatches * max_area);
+      tbb::enumerable_thread_specific<std::vector<Link>> found;
+      bool changed = round == 0;
+      if (round == 0) {
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, h.roots.size(), 1), [&](const auto& range) {
+          auto& out = found.local();
+          for (std::size_t r = range.begin(); r != range.end(); ++r) {
+            if (cancelled()) return;
+            refiner.refine_to_cluster(h.roots[r], 0, out);
+          }
+        });
+      } else {
+        tbb::combinable<bool> any_change([] { return false; });
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, h.links.size(), 64), [&](const auto& range) {
+          auto& out = found.local();
+          bool& c = any_change.local();
+          for (std::size_t l = range.begin(); l != range.end(); ++l) {
+            c |= refiner.recheck(h.links[l], out);
+          }
+        });
+        changed = any_change.combine([](bool a, bool b) { return a || b; });
+      }
+      check_cancel(control);
+      if (!changed) {
+        time_links += seconds_since(t1);
+        break;
+      }
+      std::vector<Link> all;
+      for (auto& part : found) all.insert(all.end(), part.begin(), part.end());
+      tbb::parallel_sort(all.begin(), all.end(), [](const Link& a, const Link& b) {
+        return a.receiver != b.receiver ? a.receiver < b.receiver : a.source < b.source;
+      });
+      h.links = std::move(all);
+      h.link_start.assign(h.elements.size() + 1, 0);
+      for (const Link& l : h.links) ++h.link_start[l.receiver + 1];
+      for (std::size_t e = 0; e < h.elements.size(); ++e) h.link_start[e + 1] += h.link_start[e];
+
+      // ---- closure: row sums of the links; closed leaves are scaled to 1 ----
+      if (round == 0) {
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, N, 16), [&](const auto& range) {
+          const int rays = static_cast<int>(std::clamp<std::size_t>(4000000 / std::max<std::size_t>(N, 1), 64, 1024));
+          for (std::size_t i = range.begin(); i != range.end(); ++i)
+            closed[i] = hemisphere_is_closed(h.elements[h.leaves[i]], i, rays, vis, occluder_normals);
+        });
+      }
+      std::vector<double> ones(N, 1.0), row_sum(N, 0.0);
+      h.apply({ones.data()}, {row_sum.data()}, false);
+      double worst = 0;
+      for (std::size_t i = 0; i < N; ++i) {
+        const double S = row_sum[i];
+        if (closed[i] == 1 && S > 0) {
+          worst = std::max(worst, std::abs(1 - S));
+          h.leaf_scale[i] = 1 / S;
+        } else {
+          h.leaf_scale[i] = S > 1 ? 1 / S : 1.0;  // never more than all of a hemisphere
+        }
+      }
+      sol.stats.max_closure_error = worst;
+      time_links += seconds_since(t1);
+      report(0.1 + 0.2 * (round + 1));
+
+      // ---- solve ----
+      t1 = Clock::now();
+      for (auto& sys : systems) sys.iterations = 0;
+      solve_radiosity_systems(N, gather_all, systems, scene.solver.tolerance, scene.solver.max_iterations, cancelled);
+      time_solve += seconds_since(t1);
+    }
+    std::size_t leaking = 0;
+    std::set<std::string> names;
+    for (std::size_t i = 0; i < N; ++i)
+      if (closed[i] == 2) {
+        ++leaking;
+        names.insert(scene.surfaces[sol.patches[i].surface].name);
+      }
+    if (leaking > 0) {
+      std::string list;
+      for (const auto& name : names) list += (list.empty() ? "" : ", ") + name;
+      sol.warnings.push_back(std::to_string(leaking) + " patches (of " + list +
+                             ") see the back of a surface: an enclosure is open underneath or a "
+                             "surface faces the wrong way; light reaching a back side is lost");
+    }
+    // Reciprocity over element links whose reverse link exists at the same pair of elements.
+    std::unordered_map<std::uint64_t, double> G;
+    for (const Link& l : h.links)
+      if (!l.from_cluster)
+        G[(std::uint64_t(l.receiver) << 32) | std::uint32_t(l.source)] = h.elements[l.receiver].area * (l.coeff[0] + l.coeff[1] + l.coeff[2]) / 3;
+    double worst = 0;
+    for (const auto& [key, g] : G) {
+      const auto it = G.find((key << 32) | (key >> 32));
+      if (it == G.end()) continue;
+      const double big = std::max(g, it->second);
+      if (big > 0) worst = std::max(worst, std::abs(g - it->second) / big);
+    }
+    sol.stats.max_reciprocity_error = worst;
+  }
+  sol.stats.links = h.links.size();
+  for (const auto& sys : systems) {
+    sol.stats.iterations = std::max(sol.stats.iterations, sys.iterations);
+    sol.stats.residual = std::max(sol.stats.residual, sys.residual);
+  }
+  sol.stats.spectral_systems_solved = need_links ? static_cast<int>(K) : 0;
+
+  // ---- outputs: B per leaf, H = F B + E_direct ----
+  auto t1 = Clock::now();
+  const bool keep_sign = scene.mode == SpectrumMode::Rgb;
+  std::vector<std::vector<double>> gathered(K, std::vector<double>(N, 0.0));
+  if (need_links && N > 0)
+    for (std::size_t start = 0; start < K; start += kMaxBatch) {
+      std::vector<const double*> V;
+      std::vector<double*> FV;
+      for (std::size_t k = start; k < std::min(K, start + kMaxBatch); ++k) {
+        V.push_back(systems[k].x.data());
+        FV.push_back(gathered[k].data());
+      }
+      h.apply(V, FV);
+    }
+  sol.radiosity.assign(N * W, 0.0);
+  sol.irradiance.assign(N * W, 0.0);
+  for (std::size_t i = 0; i < N; ++i)
+    for (std::size_t w = 0; w < W; ++w) {
+      const auto& sys = systems[wavelength_system[w]];
+      const double x = need_links ? sys.x[i] : sys.b[i];
+      sol.radiosity[i * W + w] = keep_sign ? x : std::max(0.0, x);
+      sol.irradiance[i * W + w] = gathered[wavelength_system[w]][i] + E_direct[i * W + w];
+    }
+  time_solve += seconds_since(t1);
+  sol.stats.time_form_factors_s = time_links;
+  sol.stats.time_solve_s = time_solve;
+  report(0.9);
+
+  // ---- probes: direct sources, then a traversal of the hierarchy from the top cluster per point ----
+  t0 = Clock::now();
+  sol.probes.resize(scene.probes.size());
+  if (!scene.probes.empty()) {
+    // Per-node radiosity of every system, and the subtree's spread of B (largest over the systems),
+    // which decides how deep a probe must look into an element.
+    std::vector<const double*> X(K);
+    for (std::size_t k = 0; k < K; ++k) X[k] = need_links ? systems[k].x.data() : systems[k].b.data();
+    Hierarchy::Values values;
+    h.pull(X, values);
+    std::vector<double> lo(h.elements.size(), 1e300), hi(h.elements.size(), -1e300), cluster_B(h.clusters.size(), 0);
+    for (std::size_t e = h.elements.size(); e-- > 0;) {
+      const Element& el = h.elements[e];
+      if (el.leaf >= 0)
+        for (std::size_t k = 0; k < K; ++k) lo[e] = std::min(lo[e], X[k][el.leaf]), hi[e] = std::max(hi[e], X[k][el.leaf]);
+      if (el.parent >= 0) lo[el.parent] = std::min(lo[el.parent], lo[e]), hi[el.parent] = std::max(hi[el.parent], hi[e]);
+    }
+    for (std::size_t c = h.clusters.size(); c-- > 0;) {
+      const Cluster& cl = h.clusters[c];
+      cluster_B[c] = cl.root >= 0 ? std::max(std::abs(lo[cl.root]), std::abs(hi[cl.root]))
+                                  : std::max(cluster_B[cl.child[0]], cluster_B[cl.child[1]]);
+    }
+    double power = 0, area = 0;
+    for (std::size_t i = 0; i < N; ++i) {
+      power += sol.patches[i].area_m2 * std::max(std::abs(lo[h.leaves[i]]), std::abs(hi[h.leaves[i]]));
+      area += sol.patches[i].area_m2;
+    }
+    // A probe link may err by accuracy/10 of the scene's mean radiosity... per unit of projected solid angle.
+    const double e_tolerance = area > 0 ? 0.1 * scene.solver.accuracy * power / area : 0;
+    for (std::size_t k = 0; k < scene.probes.size(); ++k) {
+      const Probe& probe = scene.probes[k];
+      const Vector3 n = probe.normal;
+      std::vector<double> E(probe.points.size() * K, 0.0);
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, probe.points.size(), 1), [&](const auto& range) {
+        std::vector<int> stack;
+        for (std::size_t q = range.begin(); q != range.end(); ++q) {
+          const Point3& p = probe.points[q];
+          const Point3 from = vis.lift(p, n);
+          double* e = &E[q * K];
+          auto add_element = [&](int s, double f) {
+            const Element& S = h.elements[s];
+            const double v = weighted_visible_fraction(
+                vis, [&](int j) { return std::pair{from, vis.lift(visibility_sample(S.tri, j), S.normal)}; },
+                [&](const Point3&, const Point3& qq) { return link_weight(p, n, qq, S.normal); });
+            for (std::size_t kk = 0; kk < K; ++kk) e[kk] += f * v * values.B[s * K + kk];
+          };
+          stack.assign(1, -1);  // −1 − c: cluster c; ≥ 0: element
+          while (!stack.empty()) {
+            const int node = stack.back();
+            stack.pop_back();
+            if (node >= 0) {
+              const Element& S = h.elements[node];
+              const double f = point_triangle_factor(p, n, S.tri);
+              if (f <= 0) continue;
+              if (S.first_child >= 0 && f * (hi[node] - lo[node]) > e_tolerance) {
+                for (int c = 0; c < 4; ++c) stack.push_back(S.first_child + c);
+              } else {
+                add_element(node, f);
+              }
+              continue;
+            }
+            const int c = -1 - node;
+            const Cluster& C = h.clusters[c];
+            if (C.root >= 0) {
+              stack.push_back(C.root);
+              continue;
+            }
+            if (!box_in_front(C.box, p, n, 0)) continue;
+            const Vector3 d_vec = p - C.centre;
+            const double d = length(d_vec), d_min = d - C.radius;
+            bool accepted = false;
+            if (d >= 2 * C.radius && d_min > 0) {
+              const Vector3 w = d_vec / d;
+              const double wa[3] = {w.x, w.y, w.z};
+              double projected = 0;
+              for (int a = 0; a < 3; ++a) projected += std::abs(wa[a]) * C.projected[wa[a] > 0 ? 2 * a : 2 * a + 1];
+              if (cluster_B[c] * projected / (kPi * d_min * d_min) <= e_tolerance) {
+                accepted = true;
+                const double cos_p = std::max(0.0, -dot(n, w));
+                if (cos_p > 0 && projected > 0) {
+                  Vector3 source_normal;
+                  const double v = weighted_visible_fraction(
+                      vis,
+                      [&](int j) {
+                        const Element& S = h.elements[cluster_sample(h, C, j)];
+                        source_normal = S.normal;
+                        return std::pair{from, vis.lift(visibility_sample(S.tri, j), S.normal)};
+                      },
+                      [&](const Point3&, const Point3& qq) { return link_weight(p, n, qq, source_normal); });
+                  for (int a = 0; a < 3; ++a) {
+                    const int bin = wa[a] > 0 ? 2 * a : 2 * a + 1;
+                    const double coeff = std::abs(wa[a]) * cos_p * v / (kPi * d * d);
+                    for (std::size_t kk = 0; kk < K; ++kk) e[kk] += coeff * values.Phi[(c * 6 + bin) * K + kk];
+                  }
+                }
+              }
+            }
+            if (!accepted) {
+              stack.push_back(-1 - C.child[0]);
+              stack.push_back(-1 - C.child[1]);
+            }
+          }
+        }
+      });
+      auto& out = sol.probes[k].irradiance;
+      out.assign(probe.points.size() * W, 0.0);
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, probe.points.size(), 4), [&](const auto& range) {
+        for (std::size_t q = range.begin(); q != range.end(); ++q) {
+          double* o = &out[q * W];
+          for (std::size_t w = 0; w < W; ++w) o[w] = E[q * K + wavelength_system[w]];
+          for (const auto& source : sources) {
+            const double g = source->point_factor(probe.points[q], n, vis);
+            if (g == 0) continue;
+            const auto& S = source->spectrum();
+            for (std::size_t w = 0; w < W; ++w) o[w] += g * S[w];
+          }
+        }
+      });
+      check_cancel(control);
+    }
+  }
+  sol.stats.time_probes_s = seconds_since(t0);
+
+  // ---- energy balance: emitted = absorbed + escaped (W, integrated over the grid) ----
+  // A leaf's outgoing power that reaches no element is estimated by its own row sum (reciprocity):
+  // escaped_i = A_i B_i (1 − min(1, scale_i Σ_j F_ij)).
+  std::vector<double> received(N, 0.0);
+  if (need_links && N > 0) {
+    std::vector<double> ones(N, 1.0);
+    h.apply({ones.data()}, {received.data()});
+  }
+  const auto& wt = scene.grid.weight_nm;
+  double emitted = 0, absorbed = 0, escaped = 0;
+  for (const auto& source : sources) {
+    const double flux = source->flux_factor();
+    const auto& S = source->spectrum();
+    for (std::size_t w = 0; w < W; ++w) {
+      emitted += wt[w] * flux * S[w];
+      escaped += wt[w] * flux * S[w];
+    }
+  }
+  for (std::size_t i = 0; i < N; ++i) {
+    const double A = sol.patches[i].area_m2;
+    const double leak = 1 - std::min(1.0, received[i]);
+    for (std::size_t w = 0; w < W; ++w) {
+      const std::size_t k = i * W + w;
+      emitted += wt[w] * A * (M[k] + E_direct[k] - E_point[k]);
+      absorbed += wt[w] * A * (1 - rho[k]) * sol.irradiance[k];
+      escaped += wt[w] * A * (sol.radiosity[k] * leak - E_point[k]);
+    }
+  }
+  sol.stats.emitted_W = emitted;
+  sol.stats.absorbed_W = absorbed;
+  sol.stats.escaped_W = escaped;
+  sol.stats.relative_imbalance = emitted > 0 ? (emitted - absorbed - escaped) / emitted : 0;
+  sol.stats.rays = vis.rays_traced();
+  sol.stats.time_total_s = seconds_since(t_start);
+  report(1.0);
+  return sol;
+}
+
+}  // namespace lambert

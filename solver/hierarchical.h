@@ -1,0 +1,47 @@
+// Hierarchical radiosity (Hanrahan, Salzman & Aupperle 1991, "A rapid hierarchical radiosity
+// algorithm") with BF refinement, and clusters of input triangles as sources (Smits, Arvo & Greenberg
+// 1994, "A clustering algorithm for radiosity in complex environments"), so that neither N² factors
+// nor N² pairs are ever formed. Same equations and the same Solution as the dense solver
+// (solver/radiosity.h):
+//
+//   B_i(λ) = M_i(λ) + ρ_i(λ) H_i(λ),   H_i = Σ_links at i and its ancestors F_link B_source + E_i^direct
+//
+// Elements: every input triangle, pre-split (conforming) so that no root exceeds 64 output patches,
+// then split 1:4 down to meshing.max_patch_area; the leaves are the output patches. Clusters: a
+// bounding-volume hierarchy over the roots.
+//
+// Links gather into elements only. An element→element link carries the exact point-to-polygon kernel
+// averaged over the receiver (adaptive cubature for near pairs) times a kernel-weighted ray-traced
+// visible fraction (4, 16 or 64 rays, as the link needs). A cluster→element link carries the cluster's
+// radiant intensity I(ω) = Σ_k (ω·e_k)⁺ Φ_k / π, with Φ_k = Σ_j B_j A_j (n_j·e_k)⁺ the cluster's
+// radiosity-weighted projected area on the six axis directions (exact for axis-aligned elements), over
+// the squared distance, times a visible fraction from rays to points of the cluster's triangles.
+//
+// Element links are linear over the receiver: the point kernel at 10 receiver points is fitted by a
+// linear function (least squares, shifted so that its mean is the exact receiver average), and
+// push-down hands each child the parent's linear field at the child's vertices; a leaf takes the mean.
+// This makes the push-down error second order in the element size (a constant push needed ~6× more
+// links for the same closure).
+//
+// Refinement (the "BF oracle"): a link is kept when B_source × (its irradiance error bound per unit
+// radiosity) × max(1, A_receiver / (4 patch areas)) ≤ ε = solver.accuracy × (mean radiosity);
+// otherwise the larger side is split and the children are linked. The element link's error bound is
+// the residual of the linear fit plus half the factor of a partly occluded link; the cluster link's is
+// its whole transfer (distance shortened by both bounding radii) times the pair's relative size. Up
+// to three refine–solve rounds: the first with the first-bounce radiosity plus an ambient estimate,
+// then with the solved one.
+//
+// Solve: the operator F is applied matrix-free (pull radiosity up to elements and clusters, gather
+// over links, push irradiance down to the leaves) inside the lockstep GMRES of solver/linear_solve.h,
+// one system per distinct spectral system. Closure: each leaf whose hemisphere is closed (probe rays
+// all hit front faces) has its gathered row sum Σ F scaled to exactly 1, so a furnace gives
+// B = M/(1 − ρ) exactly; the largest correction is reported as stats.max_closure_error.
+#pragma once
+
+#include "solver/radiosity.h"
+
+namespace lambert {
+
+Solution solve_hierarchical(const Scene& scene, const SolveControl& control = {});
+
+}  // namespace lambert
