@@ -4,4 +4,4 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 tools/build.sh
 cd build
-ctest --output-on-failure -j2 --timeout 900
+ctest --output-on-failure -j2 --timeout 300
