@@ -145,6 +145,25 @@ std::vector<Case> cases() {
                      return std::sqrt(sum / pts.size());
                    }});
   }
+  {
+    // REFERENCES V9 (point receiver, opaque polygon between it and a planar emitter): the visible
+    // factor is F(emitter) − F(central projection of the obstruction onto the emitter's plane), both
+    // by Howell B-3 corner decomposition; E = π L F_visible with L = 1. The obstruction is placed off
+    // the mesh's symmetry lines, so its shadow cuts emitter patches and the error measures the
+    // ray-estimated visible fractions.
+    const double x0 = -0.2, x1 = 0.33, y0 = -0.17, y1 = 0.29;  // blocker at z = 1; shadow ×2 at z = 2
+    json s = {{"name", "obstructed-emitter"}, {"spectrum", one_wavelength}, {"materials", {{"black", {{"reflectance", 0}}}}}};
+    s["surfaces"] = {{{"name", "emitter"}, {"material", "black"}, {"polygon", rect({-1, -1, 2}, {0, 2, 0}, {2, 0, 0})},
+                      {"emission", {{"radiance", 1.0}}}},
+                     {{"name", "blocker"}, {"material", "black"}, {"polygon", rect({x0, y0, 1}, {0, y1 - y0, 0}, {x1 - x0, 0, 0})}}};
+    s["probes"] = {{{"name", "p"}, {"position", {0, 0, 0}}, {"normal", {0, 0, 1}}}};
+    const double visible = point_under_rectangle(0, 0, 2, -1, 1, -1, 1) -
+                           point_under_rectangle(0, 0, 2, 2 * x0, 2 * x1, 2 * y0, 2 * y1);
+    out.push_back({"obstructed-emitter", "probe E vs pi L F_visible (V9)", s, 4 + (x1 - x0) * (y1 - y0),
+                   [visible](const Scene&, const Solution& sol, const Report&) {
+                     return std::abs(sol.probes[0].irradiance[0] / (kPi * visible) - 1);
+                   }});
+  }
   return out;
 }
 
