@@ -11,6 +11,7 @@
 #include "server/http_server.h"
 
 #include <httplib.h>
+#include <sys/socket.h>
 
 #include <algorithm>
 #include <atomic>
@@ -20,7 +21,6 @@
 #include <iostream>
 #include <list>
 #include <mutex>
-#include <regex>
 #include <thread>
 #include <vector>
 
@@ -164,22 +164,44 @@ class BoundedThreadPool final : public httplib::TaskQueue {
 
 // ---- routes -------------------------------------------------------------------------------------
 
+// The served paths, for 404 and 405 before any handler runs. A "*" segment matches one non-empty
+// path segment (a job id).
 struct Route {
-  std::regex pattern;
+  std::vector<std::string> segments;
   std::vector<std::string> methods;  // GET implies HEAD
   std::string allow;                 // the Allow header for 405
 };
 
+std::vector<std::string> split_path(const std::string& path) {
+  std::vector<std::string> parts;
+  std::size_t start = 1;  // paths start with '/'
+  for (;;) {
+    const std::size_t slash = path.find('/', start);
+    parts.push_back(path.substr(start, slash == std::string::npos ? std::string::npos : slash - start));
+    if (slash == std::string::npos) return parts;
+    start = slash + 1;
+  }
+}
+
+bool route_matches(const Route& route, const std::string& path) {
+  if (path.empty() || path[0] != '/') return false;
+  const auto parts = split_path(path);
+  if (parts.size() != route.segments.size()) return false;
+  for (std::size_t k = 0; k < parts.size(); ++k)
+    if (route.segments[k] == "*" ? parts[k].empty() : parts[k] != route.segments[k]) return false;
+  return true;
+}
+
 std::vector<Route> make_routes() {
-  auto route = [](const char* pattern, std::vector<std::string> methods) {
+  auto route = [](const std::string& path, std::vector<std::string> methods) {
     std::string allow;
     for (const auto& m : methods) allow += (allow.empty() ? "" : ", ") + m + (m == "GET" ? ", HEAD" : "");
-    return Route{std::regex(pattern), std::move(methods), std::move(allow)};
+    return Route{split_path(path), std::move(methods), std::move(allow)};
   };
   return {route("/v1/solve", {"POST"}),
           route("/v1/jobs", {"POST"}),
-          route("/v1/jobs/[^/]+", {"GET", "DELETE"}),
-          route("/v1/jobs/[^/]+/result", {"GET"}),
+          route("/v1/jobs/*", {"GET", "DELETE"}),
+          route("/v1/jobs/*/result", {"GET"}),
           route("/v1/health", {"GET"}),
           route("/v1/openapi.json", {"GET"}),
           route("/v1/schema/scene.json", {"GET"})};
@@ -229,6 +251,7 @@ struct HttpServer::Impl {
   // Synchronous solves wait on HTTP threads: keep two threads free for status and health requests.
   const std::size_t max_sync_waiters;
   std::atomic<std::size_t> sync_waiters{0};
+  int listen_fd = -1;  // the listening socket, once bound
 
   void install();
 
@@ -261,8 +284,12 @@ HttpServer::HttpServer(JobStore& jobs, HttpServerOptions options)
 HttpServer::~HttpServer() { stop(); }
 
 int HttpServer::bind(const std::string& host, int port) {
-  if (port == 0) return impl_->server.bind_to_any_port(host);
-  return impl_->server.bind_to_port(host, port) ? port : -1;
+  const int bound = port == 0 ? impl_->server.bind_to_any_port(host)
+                              : (impl_->server.bind_to_port(host, port) ? port : -1);
+  // httplib listens with a backlog of 5: a burst of a few more connections than that loses SYNs and
+  // waits a second for the retransmission. Listening again on the same socket raises the backlog.
+  if (bound > 0 && impl_->listen_fd >= 0) ::listen(impl_->listen_fd, SOMAXCONN);
+  return bound;
 }
 
 bool HttpServer::listen_after_bind() { return impl_->server.listen_after_bind(); }
@@ -278,13 +305,20 @@ void HttpServer::Impl::install() {
   server.set_keep_alive_timeout(options.keep_alive_timeout_s);
   server.set_keep_alive_max_count(100);
   server.set_tcp_nodelay(true);
+  // Instead of httplib's default (SO_REUSEADDR and SO_REUSEPORT): without SO_REUSEPORT a second
+  // server on the same port fails to start instead of silently sharing the traffic.
+  server.set_socket_options([this](int sock) {
+    int yes = 1;
+    ::setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
+    listen_fd = sock;  // the last socket tried is the one that was bound
+  });
   server.set_default_headers({{"Cache-Control", "no-store"}, {"X-Content-Type-Options", "nosniff"}});
 
   // 404 for unknown paths and 405 (with Allow) for known paths with another method, decided before
   // any body is read.
   server.set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
     for (const Route& route : routes) {
-      if (!std::regex_match(req.path, route.pattern)) continue;
+      if (!route_matches(route, req.path)) continue;
       const bool allowed =
           std::find(route.methods.begin(), route.methods.end(), req.method) != route.methods.end() ||
           (req.method == "HEAD" &&
@@ -377,8 +411,12 @@ HttpServer::Impl::Body HttpServer::Impl::read_body(const httplib::Request& req, 
     return Body::Sent;
   }
   if (length && *length > options.max_body_bytes) {
-    // httplib discards the body itself (payload_max_length) and sets 413.
-    reader([](const char*, std::size_t) { return true; });
+    // Read and discard a body of reasonable size (httplib does that for payload_max_length), so that
+    // the client, still sending, does not lose our answer to a connection reset; a huge one is not
+    // worth the traffic.
+    constexpr std::size_t kAlwaysDrain = 16u << 20;
+    if (*length <= kAlwaysDrain || *length / 2 <= options.max_body_bytes)
+      reader([](const char*, std::size_t) { return true; });
     close_after(req, res);
     send_error(res, 413, "too_large",
                "the request body has " + std::to_string(*length) + " bytes; this server accepts at most " + limit);

@@ -7,6 +7,7 @@
 #include "server/job_store.h"
 
 #include <fcntl.h>
+#include <sys/file.h>
 #include <sys/random.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -169,6 +170,9 @@ struct Job {
 
 struct JobStore::Impl {
   explicit Impl(JobStoreOptions o) : options(std::move(o)) {}
+  ~Impl() {
+    if (lock_fd >= 0) ::close(lock_fd);
+  }
 
   JobStoreOptions options;
   std::optional<fs::path> jobs_dir;
@@ -183,6 +187,7 @@ struct JobStore::Impl {
   bool stopping = false;
   std::vector<std::thread> workers;
   std::thread watchdog;
+  int lock_fd = -1;  // flock on <data_dir>/jobs/.lock: one server per data directory
 
   fs::path scene_path(const std::string& id) const { return *jobs_dir / (id + ".scene.json"); }
   fs::path result_path(const std::string& id) const { return *jobs_dir / (id + ".result.json"); }
@@ -220,7 +225,8 @@ struct JobStore::Impl {
                    {"finished", to_unix_seconds(job.finished)}};
     if (!job.error.empty()) record["error"] = job.error;
     try {
-      write_file_atomically(record_path(job.id), record.dump(1) + "\n");
+      write_file_atomically(record_path(job.id),
+                            record.dump(1, ' ', false, json::error_handler_t::replace) + "\n");
       remove_quietly(scene_path(job.id));
     } catch (const std::exception& e) {
       std::cerr << "lambert serve: job " << job.id << ": " << e.what() << "\n";
@@ -253,6 +259,16 @@ JobStore::JobStore(JobStoreOptions options) : impl_(std::make_unique<Impl>(std::
     fs::create_directories(dir, ec);
     if (ec || !fs::is_directory(dir))
       throw std::runtime_error("cannot use data directory " + dir.string() + ": " + ec.message());
+    // Two servers on one directory would run and delete each other's jobs.
+    s.lock_fd = ::open((dir / ".lock").c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0600);
+    if (s.lock_fd < 0 || ::flock(s.lock_fd, LOCK_EX | LOCK_NB) != 0) {
+      const int err = errno;
+      if (s.lock_fd >= 0) ::close(s.lock_fd);
+      s.lock_fd = -1;
+      throw std::runtime_error("data directory " + dir.string() +
+                               (err == EWOULDBLOCK ? " is in use by another lambert serve"
+                                                   : ": " + errno_text(err)));
+    }
     // A probe write: a read-only or full directory is a startup error, not a lost result later.
     const fs::path probe = dir / ".write-test";
     write_file_atomically(probe, "ok\n");
@@ -289,6 +305,10 @@ void JobStore::shutdown() {
   for (auto& t : s.workers) t.join();
   s.workers.clear();
   if (s.watchdog.joinable()) s.watchdog.join();
+  if (s.lock_fd >= 0) {
+    ::close(s.lock_fd);  // releases the flock
+    s.lock_fd = -1;
+  }
 }
 
 // Reads the data directory back (see job_store.h). Runs before the workers start.

@@ -82,6 +82,7 @@ class TestServer {
     thread_.join();
   }
   int port() const { return port_; }
+  void shutdown_jobs() { store_->shutdown(); }
   std::unique_ptr<httplib::Client> client() const {
     auto c = std::make_unique<httplib::Client>("127.0.0.1", port_);
     c->set_read_timeout(300, 0);
@@ -260,6 +261,14 @@ TEST(Http, HealthReportsLivenessAndVersion) {
   EXPECT_EQ(head->status, 200);
 }
 
+TEST(Http, ASecondServerCannotTakeTheSamePort) {
+  TestServer server;
+  JobStore jobs(job_options());
+  HttpServer second(jobs, {});
+  EXPECT_EQ(second.bind("127.0.0.1", server.port()), -1);
+  expect_alive(server);
+}
+
 TEST(Http, ServesTheContractDocumentsFromTheRepository) {
   TestServer server;
   auto cli = server.client();
@@ -283,6 +292,7 @@ TEST(Http, UnknownPathsAre404AndWrongMethods405) {
   expect_error(cli->Get("/v1/health/"), 404, "not_found");
   expect_error(cli->Post("/v2/solve", "{}", "application/json"), 404, "not_found");
   expect_error(cli->Get("/v1/jobs/a/b/c"), 404, "not_found");
+  expect_error(cli->Get("/v1/jobs/" + std::string(10000, 'a')), 414, "uri_too_long");
 
   auto r = cli->Get("/v1/solve");
   expect_error(r, 405, "method_not_allowed");
@@ -614,6 +624,7 @@ TEST(Http, ProgressMovesAndDeleteCancelsARunningSolvePromptly) {
   TestServer server(jobs);
   auto cli = server.client();
   const std::string id = submit(server, slow_scene());
+  wait_for(server, id, [](const json& s) { return s.value("state", "") != "queued"; });
   // The worker is busy: a second job waits.
   const std::string next = submit(server, point_scene(20));
   const json queued = job_status(server, next);
@@ -686,6 +697,44 @@ TEST(Http, AFullQueueAnswers503WithRetryAfter) {
   submit(server, point_scene(10));  // room again
 }
 
+TEST(Http, SynchronousSolvesLeaveThreadsForStatusRequests) {
+  JobStoreOptions jobs = job_options();
+  jobs.workers = 1;
+  jobs.time_limit = 2s;
+  HttpServerOptions http;
+  http.http_threads = 3;  // one may wait for a solve, two stay free
+  TestServer server(jobs, http);
+  std::thread waiting([&] {
+    expect_error(server.client()->Post("/v1/solve", slow_scene().dump(), "application/json"), 422, "solve_failed");
+  });
+  const auto t0 = Clock::now();
+  while (expect_json(server.client()->Get("/v1/health"), 200)["jobs"]["running"] != 1 && Clock::now() - t0 < 30s)
+    std::this_thread::sleep_for(5ms);
+  auto res = server.client()->Post("/v1/solve", point_scene(10).dump(), "application/json");
+  expect_error(res, 503, "busy");
+  EXPECT_FALSE(res->get_header_value("Retry-After").empty());
+  expect_json(server.client()->Post("/v1/jobs", point_scene(10).dump(), "application/json"), 202);  // jobs still go
+  waiting.join();
+}
+
+TEST(Http, ShutdownAnswersWhoIsWaitingAndRefusesNewWork) {
+  JobStoreOptions jobs = job_options();
+  jobs.workers = 1;
+  TestServer server(jobs);
+  std::thread waiting([&] {
+    expect_error(server.client()->Post("/v1/solve", slow_scene().dump(), "application/json"), 503, "shutting_down");
+  });
+  const auto t0 = Clock::now();
+  while (expect_json(server.client()->Get("/v1/health"), 200)["jobs"]["running"] != 1 && Clock::now() - t0 < 30s)
+    std::this_thread::sleep_for(5ms);
+  server.shutdown_jobs();
+  waiting.join();
+  EXPECT_LT(Clock::now() - t0, 30s);
+  expect_error(server.client()->Post("/v1/jobs", point_scene(10).dump(), "application/json"), 503, "shutting_down");
+  expect_error(server.client()->Post("/v1/solve", point_scene(10).dump(), "application/json"), 503, "shutting_down");
+  expect_alive(server);
+}
+
 TEST(Http, TheTimeLimitFailsAJobWithTheReason) {
   JobStoreOptions jobs = job_options();
   jobs.time_limit = 0.3s;
@@ -726,9 +775,10 @@ TEST(Http, ThePatchLimitFailsWithTheReason) {
 
 // ---- the data directory ------------------------------------------------------------------------------------
 
-std::size_t files_in(const fs::path& dir) {
+std::size_t files_in(const fs::path& dir) {  // not counting the lock file
   std::size_t n = 0;
-  for (const auto& e : fs::directory_iterator(dir)) n += e.is_regular_file();
+  for (const auto& e : fs::directory_iterator(dir))
+    n += e.is_regular_file() && e.path().filename().string()[0] != '.';
   return n;
 }
 
@@ -750,7 +800,9 @@ TEST(Http, FinishedResultsSurviveARestart) {
   }
   // Files only: the scene went away once the job was final; no temporary file is left.
   for (const auto& e : fs::directory_iterator(dir.path / "jobs"))
-    EXPECT_TRUE(e.path().string().ends_with(".job.json") || e.path().string().ends_with(".result.json")) << e.path();
+    EXPECT_TRUE(e.path().string().ends_with(".job.json") || e.path().string().ends_with(".result.json") ||
+                e.path().filename() == ".lock")
+        << e.path();
   {
     TestServer server(jobs);
     auto cli = server.client();
@@ -808,6 +860,15 @@ TEST(Http, FinishedJobsExpire) {
     std::this_thread::sleep_for(50ms);
   expect_error(server.client()->Get("/v1/jobs/" + id), 404, "not_found");
   EXPECT_EQ(files_in(dir.path / "jobs"), 0u);
+}
+
+TEST(Http, OneDataDirectoryServesOneServer) {
+  TempDir dir;
+  JobStoreOptions jobs = job_options();
+  jobs.data_dir = dir.path;
+  TestServer server(jobs);
+  EXPECT_THROW(JobStore second(jobs), std::runtime_error);
+  expect_alive(server);
 }
 
 TEST(Http, AnUnusableDataDirectoryIsAStartupError) {
