@@ -4,6 +4,8 @@
 // probes -> energy.
 #include "solver/hierarchical.h"
 
+#include "solver/energy_balance.h"
+
 #include <tbb/blocked_range.h>
 #include <tbb/combinable.h>
 #include <tbb/enumerable_thread_specific.h>
@@ -20,6 +22,7 @@
 
 #include "mesh/mesh_ops.h"
 #include "solver/cubature.h"
+#include "solver/energy_balance.h"
 #include "solver/form_factor.h"
 #include "solver/light_model.h"
 #include "solver/linear_solve.h"
@@ -986,30 +989,10 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
     std::vector<double> ones(N, 1.0);
     h.apply({ones.data()}, {received.data()});
   }
-  const auto& wt = scene.grid.weight_nm;
-  double emitted = 0, absorbed = 0, escaped = 0;
-  for (const auto& source : sources) {
-    const double flux = source->flux_factor();
-    const auto& S = source->spectrum();
-    for (std::size_t w = 0; w < W; ++w) {
-      emitted += wt[w] * flux * S[w];
-      escaped += wt[w] * flux * S[w];
-    }
-  }
-  for (std::size_t i = 0; i < N; ++i) {
-    const double A = sol.patches[i].area_m2;
-    const double leak = 1 - std::min(1.0, received[i]);
-    for (std::size_t w = 0; w < W; ++w) {
-      const std::size_t k = i * W + w;
-      emitted += wt[w] * A * (M[k] + E_direct[k] - E_point[k]);
-      absorbed += wt[w] * A * (1 - rho[k]) * sol.irradiance[k];
-      escaped += wt[w] * A * (sol.radiosity[k] * leak - E_point[k]);
-    }
-  }
-  sol.stats.emitted_W = emitted;
-  sol.stats.absorbed_W = absorbed;
-  sol.stats.escaped_W = escaped;
-  sol.stats.relative_imbalance = emitted > 0 ? (emitted - absorbed - escaped) / emitted : 0;
+  std::vector<double> leak(N);
+  for (std::size_t i = 0; i < N; ++i) leak[i] = 1 - std::min(1.0, received[i]);
+  account_energy(scene.grid, sources, sol.patches, rho, M, E_direct, E_point, sol.radiosity, sol.irradiance, leak,
+                 sol.stats);
   sol.stats.rays = vis.rays_traced();
   sol.stats.time_total_s = seconds_since(t_start);
   report(1.0);

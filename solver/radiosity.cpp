@@ -14,6 +14,7 @@
 
 #include "mesh/mesh_ops.h"
 #include "solver/cubature.h"
+#include "solver/energy_balance.h"
 #include "solver/form_factor.h"
 #include "solver/hierarchical.h"
 #include "solver/light_model.h"
@@ -584,34 +585,11 @@ Solution solve(const Scene& scene, const SolveControl& control) {
   }
   sol.stats.time_probes_s = seconds_since(t0);
 
-  // ---- energy balance: emitted = absorbed + escaped (all in W, integrated over the grid) ----
-  const auto& wt = scene.grid.weight_nm;
-  double emitted = 0, absorbed = 0, escaped = 0;
-  for (const auto& source : sources) {
-    // Known-flux sources (point-like, lobed emitters): what reached no patch escaped.
-    const double flux = source->flux_factor();
-    const auto& S = source->spectrum();
-    for (std::size_t w = 0; w < W; ++w) {
-      emitted += wt[w] * flux * S[w];
-      escaped += wt[w] * flux * S[w];
-    }
-  }
-  for (std::size_t i = 0; i < N; ++i) {
-    const double A = sol.patches[i].area_m2;
-    const double leak = need_factors ? 1 - row_sum[i] : 1;
-    for (std::size_t w = 0; w < W; ++w) {
-      const std::size_t k = i * W + w;
-      const double non_point_direct = E_direct[k] - E_point[k];  // directional and ambient
-      emitted += wt[w] * A * (M[k] + non_point_direct);
-      absorbed += wt[w] * A * (1 - rho[k]) * sol.irradiance[k];
-      escaped += wt[w] * A * sol.radiosity[k] * leak;
-      escaped -= wt[w] * A * E_point[k];  // point flux that reached a patch did not escape
-    }
-  }
-  sol.stats.emitted_W = emitted;
-  sol.stats.absorbed_W = absorbed;
-  sol.stats.escaped_W = escaped;
-  sol.stats.relative_imbalance = emitted > 0 ? (emitted - absorbed - escaped) / emitted : 0;
+  // ---- energy balance: emitted = absorbed + escaped ----
+  std::vector<double> leak(N, 1.0);
+  for (std::size_t i = 0; i < N && need_factors; ++i) leak[i] = 1 - row_sum[i];
+  account_energy(scene.grid, sources, sol.patches, rho, M, E_direct, E_point, sol.radiosity, sol.irradiance, leak,
+                 sol.stats);
   sol.stats.rays = vis.rays_traced();
   sol.stats.time_total_s = seconds_since(t_start);
   report(1.0);
