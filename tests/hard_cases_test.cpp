@@ -10,18 +10,9 @@ namespace lambert {
 namespace {
 
 using test::box;
+using test::surface_mean;
 using test::rectangle;
 using test::SceneBuilder;
-
-double surface_mean(const Solution& sol, int surface, const std::vector<double>& values) {
-  double sum = 0, area = 0;
-  for (std::size_t i = 0; i < sol.patches.size(); ++i) {
-    if (sol.patches[i].surface != surface) continue;
-    sum += sol.patches[i].area_m2 * values[i * sol.wavelengths()];
-    area += sol.patches[i].area_m2;
-  }
-  return sum / area;
-}
 
 // Opposed a×b rectangles at distance c, origin shifted by `offset` and all lengths scaled by `scale`:
 // the black receiver's mean irradiance is M F21 = C-11(a/c, b/c) whatever the shift and scale.

@@ -12,18 +12,9 @@ namespace lambert {
 namespace {
 
 using test::box;
+using test::surface_mean;
 using test::rectangle;
 using test::SceneBuilder;
-
-double surface_mean(const Solution& sol, int surface, const std::vector<double>& values, std::size_t w = 0) {
-  double sum = 0, area = 0;
-  for (std::size_t i = 0; i < sol.patches.size(); ++i) {
-    if (sol.patches[i].surface != surface) continue;
-    sum += sol.patches[i].area_m2 * values[i * sol.wavelengths() + w];
-    area += sol.patches[i].area_m2;
-  }
-  return sum / area;
-}
 
 Solution solve_with(Scene scene, SolverMethod method) {
   scene.solver.method = method;

@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "solver/radiosity.h"
 #include "solver/scene.h"
 #include "tests/test_geometry.h"
 
@@ -52,6 +53,17 @@ class SceneBuilder {
  private:
   Scene scene_;
 };
+
+// Area-weighted mean of a per-patch quantity ([patch][λ] flat) over one surface, at wavelength w.
+inline double surface_mean(const Solution& sol, int surface, const std::vector<double>& values, std::size_t w = 0) {
+  double sum = 0, area = 0;
+  for (std::size_t i = 0; i < sol.patches.size(); ++i) {
+    if (sol.patches[i].surface != surface) continue;
+    sum += sol.patches[i].area_m2 * values[i * sol.wavelengths() + w];
+    area += sol.patches[i].area_m2;
+  }
+  return sum / area;
+}
 
 // Axis-aligned box [lo, hi] as 6 rectangles (12 triangles), normals pointing inward (a room) or
 // outward (an obstacle).
