@@ -44,6 +44,7 @@ struct SolveStats {
   double time_meshing_s = 0, time_visibility_s = 0, time_form_factors_s = 0, time_solve_s = 0,
          time_probes_s = 0, time_total_s = 0;
   double max_patch_area_m2 = 0;
+  int adaptive_rounds = 0;             // meshing.adaptive: how many refine-and-solve rounds ran
 };
 
 // One source's share of the solution (output.per_source). The radiosity equation is linear in the
