@@ -22,23 +22,28 @@ inline Point3 visibility_sample(const Triangle& t, int k) {
   return barycentric(t.v[0], t.v[1], t.v[2], w[0], w[1], w[2]);
 }
 
-// endpoints(k) -> {from, to} for ray k (k < 64); weight(from, to) >= 0.
+// endpoints(k) -> {from, to} for ray k (k < 64); weight(from, to) >= 0. Samples of zero weight
+// (behind either end's horizon: the kernel has already excluded them) are not traced and do not vote:
+// a link whose first samples all lie behind a horizon is not declared hidden by them. Returns 1 when
+// no sample has weight (the rays cannot tell; the unoccluded factor stands).
 template <class Endpoints, class Weight>
 double weighted_visible_fraction(const Visibility& vis, Endpoints&& endpoints, Weight&& weight) {
   double seen = 0, total = 0;
-  int visible = 0, traced = 0;
+  int visible = 0, traced = 0, k = 0;
   for (int round_end : {4, 16, kMaxVisibilitySamples}) {
-    for (; traced < round_end; ++traced) {
-      const auto [from, to] = endpoints(traced);
-      const double w = weight(from, to) + 1e-300;  // never 0/0 for grazing samples
+    for (; k < round_end; ++k) {
+      const auto [from, to] = endpoints(k);
+      const double w = weight(from, to);
+      if (!(w > 0)) continue;
       const bool v = vis.visible(from, to);
+      ++traced;
       visible += v;
       seen += v ? w : 0;
       total += w;
     }
-    if (visible == 0 || visible == traced) break;  // unanimous: no need to refine
+    if (traced > 0 && (visible == 0 || visible == traced)) break;  // unanimous: no need to refine
   }
-  return seen / total;
+  return total > 0 ? seen / total : 1.0;
 }
 
 }  // namespace lambert
