@@ -17,10 +17,11 @@
 namespace lambert {
 namespace {
 
+// The device's last error message, per thread, so that the exception thrown where the failure is
+// noticed (rtcGetDeviceError after building the scene) can say what Embree said.
+thread_local std::string last_embree_error;
 void embree_error(void*, RTCError code, const char* message) {
-  // Errors are also raised as exceptions at the call sites that check rtcGetDeviceError.
-  (void)code;
-  (void)message;
+  last_embree_error = "Embree error " + std::to_string(static_cast<int>(code)) + ": " + (message ? message : "");
 }
 
 RTCDevice shared_device() {
@@ -107,7 +108,7 @@ Visibility::Visibility(std::span<const Triangle> occluders) : impl_(std::make_un
   }
   rtcCommitScene(impl_->scene);
   if (rtcGetDeviceError(device) != RTC_ERROR_NONE)
-    throw std::runtime_error("Embree failed to build the visibility scene");
+    throw std::runtime_error("Embree failed to build the visibility scene (" + last_embree_error + ")");
 }
 
 Visibility::~Visibility() {
