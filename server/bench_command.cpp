@@ -16,6 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "server/scene_codec.h"
+#include "solver/closed_forms.h"
 #include "solver/radiosity.h"
 #include "solver/report.h"
 
@@ -46,34 +47,9 @@ json box(const std::array<double, 3>& lo, const std::array<double, 3>& hi, bool 
   return {{"vertices", vertices}, {"triangles", triangles}};
 }
 
-// Howell C-11 and C-14 and B-3 (REFERENCES V3, V4, V1).
-double howell_c11(double X, double Y) {
-  const double x2 = X * X, y2 = Y * Y;
-  return 2 / (kPi * X * Y) *
-         (std::log(std::sqrt((1 + x2) * (1 + y2) / (1 + x2 + y2))) + X * std::sqrt(1 + y2) * std::atan(X / std::sqrt(1 + y2)) +
-          Y * std::sqrt(1 + x2) * std::atan(Y / std::sqrt(1 + x2)) - X * std::atan(X) - Y * std::atan(Y));
-}
-double howell_c14(double W, double H) {
-  const double w2 = W * W, h2 = H * H;
-  const double term = (1 + w2) * (1 + h2) / (1 + w2 + h2) * std::pow(w2 * (1 + w2 + h2) / ((1 + w2) * (w2 + h2)), w2) *
-                      std::pow(h2 * (1 + h2 + w2) / ((1 + h2) * (h2 + w2)), h2);
-  return 1 / (kPi * W) *
-         (W * std::atan(1 / W) + H * std::atan(1 / H) - std::sqrt(h2 + w2) * std::atan(1 / std::sqrt(h2 + w2)) +
-          0.25 * std::log(term));
-}
-double howell_b3(double X, double Y) {
-  return 1 / (2 * kPi) *
-         (X / std::sqrt(1 + X * X) * std::atan(Y / std::sqrt(1 + X * X)) +
-          Y / std::sqrt(1 + Y * Y) * std::atan(X / std::sqrt(1 + Y * Y)));
-}
-// Point facing +z at height h below an axis-aligned rectangle [x0,x1]×[y0,y1] (corner decomposition).
-double point_under_rectangle(double px, double py, double h, double x0, double x1, double y0, double y1) {
-  auto corner = [&](double x, double y) {  // signed B-3 factor of [px,x]×[py,y]
-    const double sx = x >= px ? 1 : -1, sy = y >= py ? 1 : -1;
-    return sx * sy * howell_b3(std::abs(x - px) / h, std::abs(y - py) / h);
-  };
-  return corner(x1, y1) - corner(x0, y1) - corner(x1, y0) + corner(x0, y0);
-}
+using closed_form::howell_c11;
+using closed_form::howell_c14;
+using closed_form::point_under_rectangle;
 
 struct Case {
   std::string name;

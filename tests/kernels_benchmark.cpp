@@ -41,13 +41,19 @@ BENCHMARK(BM_AreaFormFactorTouching);
 
 std::vector<Triangle> room() { return test::box({0, 0, 0}, {4, 3, 2.5}, true); }
 
-void BM_VisibilitySingle(benchmark::State& state) {
-  const auto tris = room();
-  const Visibility vis(tris);
+// 4096 random segments inside the room (fixed seed: the same rays in every run).
+std::vector<Segment> random_segments() {
   std::mt19937 rng(1);
   std::uniform_real_distribution<double> u(0.1, 2.4);
   std::vector<Segment> segments(4096);
   for (auto& s : segments) s = {{u(rng), u(rng), u(rng)}, {u(rng), u(rng), u(rng)}};
+  return segments;
+}
+
+void BM_VisibilitySingle(benchmark::State& state) {
+  const auto tris = room();
+  const Visibility vis(tris);
+  const std::vector<Segment> segments = random_segments();
   std::size_t k = 0;
   for (auto _ : state) {
     const auto& s = segments[k++ % segments.size()];
@@ -60,10 +66,7 @@ BENCHMARK(BM_VisibilitySingle);
 void BM_VisibilityStream(benchmark::State& state) {
   const auto tris = room();
   const Visibility vis(tris);
-  std::mt19937 rng(1);
-  std::uniform_real_distribution<double> u(0.1, 2.4);
-  std::vector<Segment> segments(4096);
-  for (auto& s : segments) s = {{u(rng), u(rng), u(rng)}, {u(rng), u(rng), u(rng)}};
+  const std::vector<Segment> segments = random_segments();
   std::vector<std::uint8_t> out(segments.size());
   for (auto _ : state) vis.visible(segments, out);
   state.SetItemsProcessed(state.iterations() * segments.size());

@@ -198,14 +198,6 @@ TEST(Superposition, PerSourceSolutionsAddUpToTheJointSolution) {
 namespace lambert {
 namespace {
 
-// Signed corner decomposition of Howell B-3: point facing +z, axis-aligned rectangle at height h.
-double point_under_rectangle(double h, double x0, double x1, double y0, double y1) {
-  auto corner = [&](double x, double y) {
-    return (x >= 0 ? 1 : -1) * (y >= 0 ? 1 : -1) * test::howell_b3(std::abs(x) / h, std::abs(y) / h);
-  };
-  return corner(x1, y1) - corner(x0, y1) - corner(x1, y0) + corner(x0, y0);
-}
-
 TEST(Probes, ObstructedEmitterShadowCuttingPatches) {
   // REFERENCES V9: an opaque rectangle between a point and a Lambertian emitter removes its central
   // projection: F_visible = F(2×2 emitter at h = 2) − F(shadow), both by B-3 corner decomposition.
@@ -219,7 +211,8 @@ TEST(Probes, ObstructedEmitterShadowCuttingPatches) {
     b.probe("p", {0, 0, 0}, {0, 0, 1});
     b.max_patch_area(max_area);
     const Solution sol = solve(b.scene());
-    const double visible = point_under_rectangle(2, -1, 1, -1, 1) - point_under_rectangle(2, 2 * x0, 2 * x1, 2 * y0, 2 * y1);
+    const double visible = test::point_under_rectangle(0, 0, 2, -1, 1, -1, 1) -
+                           test::point_under_rectangle(0, 0, 2, 2 * x0, 2 * x1, 2 * y0, 2 * y1);
     EXPECT_NEAR(sol.probes[0].irradiance[0], kPi * visible, 1e-3 * kPi * visible) << max_area;  // 0.1 %
   }
 }
