@@ -62,7 +62,22 @@ struct Triangle {
   double max_edge_length() const {
     return std::max({distance(v[0], v[1]), distance(v[1], v[2]), distance(v[2], v[0])});
   }
+  // Largest distance from the centroid to a vertex: the radius of a sphere around the centroid that
+  // holds the triangle (used for near/far decisions).
+  double bounding_radius() const {
+    const Point3 c = centroid();
+    return std::max({distance(c, v[0]), distance(c, v[1]), distance(c, v[2])});
+  }
 };
+
+// Whether any vertex of b lies strictly in front of the plane of a (unit normal na), with a tolerance
+// relative to the triangles' size: b can receive from, or radiate to, a's front side only then.
+inline bool any_in_front(const Triangle& a, const Vector3& na, const Triangle& b) {
+  const double scale = a.max_edge_length() + b.max_edge_length();
+  for (const Point3& p : b.v)
+    if (dot(p - a.v[0], na) > 1e-12 * scale) return true;
+  return false;
+}
 
 // An indexed triangle mesh (front side: counter-clockwise vertex order).
 struct TriangleMesh {

@@ -15,7 +15,6 @@ struct TriangleRule {
   const double* weights;
   int size;
 };
-TriangleRule triangle_rule_degree2();  // 3 interior points (Strang & Fix), exact for quadratics
 TriangleRule triangle_rule_degree5();  // 7 points (Radon), exact for quintics
 
 template <class F>

@@ -79,11 +79,6 @@ double triangle_solid_angle(const Point3& p, const Triangle& t) {
 
 namespace {
 
-// Strang & Fix 3-point rule, degree 2.
-constexpr std::array<std::array<double, 3>, 3> kDeg2Points = {
-    {{2.0 / 3, 1.0 / 6, 1.0 / 6}, {1.0 / 6, 2.0 / 3, 1.0 / 6}, {1.0 / 6, 1.0 / 6, 2.0 / 3}}};
-constexpr std::array<double, 3> kDeg2Weights = {1.0 / 3, 1.0 / 3, 1.0 / 3};
-
 // Radon's 7-point rule, degree 5 (a = (6 - √15)/21, b = (6 + √15)/21).
 constexpr double kSqrt15 = 3.872983346207417;
 constexpr double kA = (6 - kSqrt15) / 21, kB = (6 + kSqrt15) / 21;
@@ -97,13 +92,9 @@ constexpr std::array<std::array<double, 3>, 7> kDeg5Points = {{{1.0 / 3, 1.0 / 3
                                                                 {1 - 2 * kB, kB, kB}}};
 constexpr std::array<double, 7> kDeg5Weights = {9.0 / 40, kWa, kWa, kWa, kWb, kWb, kWb};
 
-double bounding_radius(const Triangle& t, const Point3& c) {
-  return std::max({distance(c, t.v[0]), distance(c, t.v[1]), distance(c, t.v[2])});
-}
 
 }  // namespace
 
-TriangleRule triangle_rule_degree2() { return {kDeg2Points.data(), kDeg2Weights.data(), 3}; }
 TriangleRule triangle_rule_degree5() { return {kDeg5Points.data(), kDeg5Weights.data(), 7}; }
 
 double area_form_factor(const Triangle& receiver, const Triangle& source,
@@ -111,7 +102,7 @@ double area_form_factor(const Triangle& receiver, const Triangle& source,
   const Vector3 n = receiver.normal();
   const Point3 cr = receiver.centroid(), cs = source.centroid();
   const double separation =
-      distance(cr, cs) / (bounding_radius(receiver, cr) + bounding_radius(source, cs));
+      distance(cr, cs) / (receiver.bounding_radius() + source.bounding_radius());
   auto kernel = [&](const Point3& p) { return point_triangle_factor(p, n, source); };
   const double coarse = apply_rule(triangle_rule_degree5(), receiver, kernel);
   // Well separated pairs: the integrand is smooth on the scale of the receiver and the degree-5 rule

@@ -85,13 +85,6 @@ struct Link {
   float error_per_B = 0;     // error bound of the factor: irradiance error per unit source radiosity
 };
 
-// Whether any part of triangle b lies strictly in front of the plane of triangle a.
-bool any_in_front(const Triangle& a, const Vector3& na, const Triangle& b) {
-  const double scale = a.max_edge_length() + b.max_edge_length();
-  for (const Point3& v : b.v)
-    if (dot(v - a.v[0], na) > 1e-12 * scale) return true;
-  return false;
-}
 bool box_in_front(const Bounds3& box, const Point3& o, const Vector3& n, double tol) {
   for (int c = 0; c < 8; ++c) {
     const Point3 p{c & 1 ? box.hi.x : box.lo.x, c & 2 ? box.hi.y : box.lo.y, c & 4 ? box.hi.z : box.lo.z};

@@ -37,14 +37,6 @@ void check_cancel(const SolveControl& control) {
   if (control.cancel && control.cancel->load(std::memory_order_relaxed)) throw SolveCancelled();
 }
 
-// Whether any part of triangle b lies strictly in front of the plane of triangle a.
-bool any_in_front(const Triangle& a, const Vector3& na, const Triangle& b) {
-  const double scale = a.max_edge_length() + b.max_edge_length();
-  for (const Point3& v : b.v)
-    if (dot(v - a.v[0], na) > 1e-12 * scale) return true;
-  return false;
-}
-
 // The differential form-factor kernel cos θ_p cos θ_q / r² (up to 1/π) between two oriented points;
 // the weight of a visibility ray.
 double link_weight(const Point3& p, const Vector3& np, const Point3& q, const Vector3& nq) {

@@ -29,17 +29,6 @@ constexpr double kRelTolerance = 1e-5;
 constexpr int kMaxDepth = 8;
 constexpr double kConeTolerance = 1e-7;
 
-double bounding_radius(const Triangle& t) {
-  const Point3 c = t.centroid();
-  return std::max({distance(c, t.v[0]), distance(c, t.v[1]), distance(c, t.v[2])});
-}
-
-// Whether any vertex of b lies strictly in front of the plane of a (normal na).
-bool any_in_front(const Triangle& a, const Vector3& na, const Triangle& b) {
-  const double scale = a.max_edge_length() + b.max_edge_length();
-  return std::any_of(b.v.begin(), b.v.end(), [&](const Point3& v) { return dot(v - a.v[0], na) > 1e-12 * scale; });
-}
-
 // The part of triangle t with (X − p)·n ≥ 0 (Sutherland–Hodgman); at most 4 vertices.
 int clip_above(const Triangle& t, const Point3& p, const Vector3& n, std::array<Point3, 4>& out) {
   int count = 0;
@@ -101,7 +90,7 @@ class PhongEmitterModel final : public LightModel {
     };
     // Far apart, relative to the lobe's width ~ 1/sqrt(n), the degree-5 rule alone is accurate (as
     // for the Lambertian form factors, to which this reduces at n = 1).
-    const double separation = distance(emitter_.centroid(), t.centroid()) / (bounding_radius(emitter_) + bounding_radius(t));
+    const double separation = distance(emitter_.centroid(), t.centroid()) / (emitter_.bounding_radius() + t.bounding_radius());
     double G;
     if (separation > 4 * std::sqrt(std::max(1.0, lobe_.exponent))) {
       G = apply_rule(triangle_rule_degree5(), emitter_, flux_from);
@@ -131,7 +120,7 @@ class PhongEmitterModel final : public LightModel {
   // normal. A narrow lobe with cos^n ψ_min < e^-70 sends t nothing measurable.
   bool beyond_lobe(const Triangle& t) const {
     const Vector3 d = t.centroid() - emitter_.centroid();
-    const double dist = length(d), R = bounding_radius(emitter_) + bounding_radius(t);
+    const double dist = length(d), R = emitter_.bounding_radius() + t.bounding_radius();
     if (dist <= R) return false;
     const double psi_min = std::acos(std::clamp(dot(lobe_.axis, d) / dist, -1.0, 1.0)) - std::asin(R / dist);
     return psi_min > 0 && (psi_min >= kPi / 2 || lobe_.exponent * std::log(std::cos(psi_min)) < -70);
