@@ -176,6 +176,7 @@ std::string encode_result(const Scene& scene, const Solution& sol, const Report&
       {"patches", st.patches},
       {"links", st.links},
       {"rays", st.rays},
+      {"exact_visibility_evaluations", st.exact_visibility_evaluations},
       {"iterations", st.iterations},
       {"residual", st.residual},
       {"spectral_systems_solved", st.spectral_systems_solved},

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <vector>
 
 #include "solver/cubature.h"
 #include "solver/spectrum.h"
@@ -67,6 +68,12 @@ double point_polygon_factor(const Point3& p, const Vector3& n, std::span<const P
 
 double point_triangle_factor(const Point3& p, const Vector3& n, const Triangle& t) {
   return point_polygon_factor(p, n, std::span<const Point3>(t.v.data(), 3));
+}
+
+double point_boundary_factor(const Point3& p, const Vector3& n, std::span<const Point3> boundary) {
+  std::vector<Vector3> R(boundary.size());
+  for (std::size_t i = 0; i < boundary.size(); ++i) R[i] = boundary[i] - p;
+  return contour_sum(n, R.data(), static_cast<int>(R.size())) / (2 * kPi);
 }
 
 double triangle_solid_angle(const Point3& p, const Triangle& t) {

@@ -21,6 +21,12 @@ namespace lambert {
 double point_polygon_factor(const Point3& p, const Vector3& n, std::span<const Point3> polygon);
 double point_triangle_factor(const Point3& p, const Vector3& n, const Triangle& t);
 
+// The contour sum alone, signed, for a closed boundary (any number of vertices) that lies wholly in
+// front of p's horizon, NOT clipped: a boundary counter-clockwise about the normal n_s of the plane it
+// lies in, seen from p on the front side, adds its factor, a clockwise one (a hole) subtracts it. Summed
+// over the outer boundaries and holes of a polygon set, it gives the set's factor.
+double point_boundary_factor(const Point3& p, const Vector3& n, std::span<const Point3> boundary);
+
 // Solid angle [sr] subtended at p by triangle t (Van Oosterom & Strackee 1983), regardless of
 // orientation. Used for the exact patch-average irradiance from an isotropic point source:
 // ∫_T I cos α / r² dA = I Ω(T).

@@ -15,6 +15,7 @@
 #include "mesh/mesh_ops.h"
 #include "solver/cubature.h"
 #include "solver/energy_balance.h"
+#include "solver/exact_visibility.h"
 #include "solver/form_factor.h"
 #include "solver/hierarchical.h"
 #include "solver/light_model.h"
@@ -57,47 +58,26 @@ double patch_visible_fraction(const Patch& a, const Patch& b, const Visibility& 
       [&](const Point3& p, const Point3& q) { return link_weight(p, a.normal, q, b.normal); });
 }
 
-// The factor from a point (a probe) to the visible part of a patch. Where rays to the patch's samples
-// disagree, the patch is split 1:4 and each part treated the same way, with the exact point-to-polygon
-// factor of every part that is wholly visible; only parts at the deepest level that are still cut by
-// a shadow boundary fall back to the kernel-weighted ray fraction. So a shadow edge costs a band of
-// small triangles along it, not an error proportional to the whole patch. The samples include the
-// corners: a straight shadow edge that crosses a triangle separates its corners, so it cannot slip
-// between interior samples. `f` is the unoccluded factor of `t`; the first level adds 16 interior
-// rays, so that small occluders are not missed.
-// Cost: a shadow edge crossing a patch costs O(2^depth) sub-triangles along it.
-double visible_point_triangle_factor(const Point3& p, const Vector3& n, const Triangle& t, const Vector3& t_normal,
-                                     double f, const Visibility& vis, int depth, int interior_rays) {
+// The factor from a point (a probe) to the visible part of a patch. Rays from the point to the
+// patch's corners (pulled 0.1 % towards the centroid: a straight shadow edge that crosses a triangle
+// separates its corners, so it cannot slip between interior samples) and 16 interior samples decide
+// the common cases: all visible gives the unoccluded factor `f`, none the value 0. Where they
+// disagree, the visible part is computed exactly (solver/exact_visibility.h): occluders projected onto
+// the patch's plane and subtracted with exact 2D Boolean operations.
+double visible_point_triangle_factor(const Point3& p, const Vector3& n, const Patch& patch, double f,
+                                     const Visibility& vis, const ExactVisibility& exact) {
   if (f <= 0) return 0;
+  const Triangle& t = patch.triangle;
   const Point3 from = vis.lift(p, n);
   int visible = 0, traced = 0;
-  for (int c = 0; c < 3; ++c) {  // corners, pulled 0.1 % towards the centroid
+  for (int c = 0; c < 3; ++c, ++traced) {
     const Point3 corner = barycentric(t.v[c], t.v[(c + 1) % 3], t.v[(c + 2) % 3], 0.998, 0.001, 0.001);
-    visible += vis.visible(from, vis.lift(corner, t_normal));
-    ++traced;
+    visible += vis.visible(from, vis.lift(corner, patch.normal));
   }
-  for (int k = 0; k < interior_rays; ++k, ++traced) visible += vis.visible(from, vis.lift(visibility_sample(t, k), t_normal));
+  for (int k = 0; k < 16; ++k, ++traced) visible += vis.visible(from, vis.lift(visibility_sample(t, k), patch.normal));
   if (visible == traced) return f;
-  if (visible == 0 && interior_rays >= 16) return 0;
-  // Parts that carry little of the point's view (f < 2e-6 of the hemisphere) stop refining: their
-  // ray estimate can be off by at most f.
-  if (depth == 0 || f < 2e-6) {
-    return f * weighted_visible_fraction(
-                   vis, [&](int k) { return std::pair{from, vis.lift(visibility_sample(t, k), t_normal)}; },
-                   [&](const Point3&, const Point3& x) {
-                     const Vector3 d = x - p;
-                     const double r2 = length_squared(d);
-                     return std::max(0.0, dot(n, d)) * std::max(0.0, -dot(t_normal, d)) / (r2 * r2);
-                   });
-  }
-  double sum = 0;
-  for (const Triangle& child : split4(t))
-    sum += visible_point_triangle_factor(p, n, child, t_normal, point_triangle_factor(p, n, child), vis, depth - 1, 1);
-  return sum;
-}
-double visible_point_triangle_factor(const Point3& p, const Vector3& n, const Patch& patch, double f,
-                                     const Visibility& vis) {
-  return visible_point_triangle_factor(p, n, patch.triangle, patch.normal, f, vis, 6, 16);
+  if (visible == 0) return 0;
+  return exact.visible_factor(p, n, t);
 }
 
 // Probes patch i's hemisphere with kHemisphereRays cosine-distributed rays: a rank-1 lattice
@@ -622,6 +602,12 @@ Solution solve_dense(const Scene& scene, const SolveControl& control, const std:
   t0 = Clock::now();
   sol.probes.resize(scene.probes.size());
   for (auto& c : sol.contributions) c.probes.resize(scene.probes.size());
+  // Exact partial visibility works on the input triangles (fewer, larger occluders than the patches).
+  std::vector<Triangle> input_triangles;
+  for (const Surface& surface : scene.surfaces)
+    for (std::size_t t = 0; t < surface.mesh.triangles.size() && !scene.probes.empty(); ++t)
+      input_triangles.push_back(surface.mesh.triangle(t));
+  const ExactVisibility exact(input_triangles);
   std::vector<char> radiates(N, 0);
   for (std::size_t j = 0; j < N; ++j) {
     const double* b = &sol.radiosity[j * W];
@@ -652,7 +638,7 @@ Solution solve_dense(const Scene& scene, const SolveControl& control, const std:
           if (!radiates[j]) continue;
           const double f = point_triangle_factor(p, probe.normal, sol.patches[j].triangle);
           if (f == 0) continue;
-          const double fv = visible_point_triangle_factor(p, probe.normal, sol.patches[j], f, vis);
+          const double fv = visible_point_triangle_factor(p, probe.normal, sol.patches[j], f, vis, exact);
           if (fv > 0) seen.emplace_back(j, fv);
         }
         auto accumulate = [&](const std::vector<double>& B, double* e) {
@@ -666,6 +652,7 @@ Solution solve_dense(const Scene& scene, const SolveControl& control, const std:
     check_cancel(control);
   }
   sol.stats.time_probes_s = seconds_since(t0);
+  sol.stats.exact_visibility_evaluations = exact.boolean_evaluations();
 
   // ---- energy balance: emitted = absorbed + escaped ----
   std::vector<double> leak(N, 1.0);

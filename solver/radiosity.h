@@ -34,6 +34,7 @@ struct SolveStats {
   std::size_t patches = 0;
   std::size_t links = 0;               // patch pairs with a non-zero factor
   std::uint64_t rays = 0;
+  std::uint64_t exact_visibility_evaluations = 0;  // point-to-patch factors cut exactly (probes)
   int iterations = 0;                  // largest over the spectral systems
   double residual = 0;                 // largest final relative residual
   int spectral_systems_solved = 0;

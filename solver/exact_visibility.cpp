@@ -1,0 +1,216 @@
+// Exact partial visibility by central projection and exact 2D Boolean operations; see
+// exact_visibility.h.
+//
+// For a receiving point p (unit normal n) and a source triangle S with unit normal n_s, let
+// h(q) = n_s · (q − s_0) be a point's height over S's plane, and h = h(p) > 0. A point q occludes part
+// of S iff it lies in the cone from p over S, strictly above S's plane (h(q) > 0) and strictly in
+// front of p's horizon (n · (q − p) > 0): segments from p to the part of S in front of the horizon
+// never leave that half-space. Each occluding triangle is clipped to that region (Sutherland–Hodgman
+// in double precision: a convex polygon of at most 8 vertices) and projected from p onto S's plane,
+// y = p + (q − p) h / (h − h(q)); a convex polygon stays convex under this projection because all
+// its points lie on S's side of the plane through p parallel to S. The cone is taken over S enlarged
+// by 5 % about its centroid, so that no projected edge is made to coincide with an edge of S by
+// rounding; the Boolean difference with S then cuts at S's edges exactly.
+//
+// The projections are subtracted from S (clipped at p's horizon) by mesh/polygon_boolean.h (CGAL
+// Polygon_set_2, exact constructions), and the visible factor is the signed contour sum over the
+// outer boundaries (counter-clockwise) and holes (clockwise) of the result.
+#include "solver/exact_visibility.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numeric>
+#include <vector>
+
+#include "mesh/polygon_boolean.h"
+#include "solver/form_factor.h"
+
+namespace lambert {
+namespace {
+
+// A half-space {x : dot(normal, x − origin) >= offset}.
+struct HalfSpace {
+  Vector3 normal;
+  Point3 origin;
+  double offset = 0;
+  double signed_distance(const Point3& x) const { return dot(normal, x - origin) - offset; }
+};
+
+// A small convex polygon in 3D (a triangle clipped by 6 planes has at most 9 vertices).
+struct SmallPolygon {
+  std::array<Point3, 12> v;
+  int count = 0;
+};
+
+SmallPolygon clip(const SmallPolygon& in, const HalfSpace& h) {
+  SmallPolygon out;
+  for (int i = 0; i < in.count; ++i) {
+    const Point3& a = in.v[i];
+    const Point3& b = in.v[(i + 1) % in.count];
+    const double da = h.signed_distance(a), db = h.signed_distance(b);
+    if (da >= 0) out.v[out.count++] = a;
+    if ((da >= 0) != (db >= 0) && out.count < static_cast<int>(out.v.size())) {
+      const double t = da / (da - db);
+      out.v[out.count++] = a + (b - a) * t;
+    }
+  }
+  return out;
+}
+
+// Whether a box lies wholly outside the half-space (its farthest corner along the normal is outside).
+bool box_outside(const Bounds3& box, const HalfSpace& h) {
+  const Point3 far{h.normal.x >= 0 ? box.hi.x : box.lo.x, h.normal.y >= 0 ? box.hi.y : box.lo.y,
+                   h.normal.z >= 0 ? box.hi.z : box.lo.z};
+  return h.signed_distance(far) < 0;
+}
+
+}  // namespace
+
+// Bounding-volume hierarchy over the occluders (median split on the longest axis of the centroids'
+// box, leaves of up to 4 triangles), queried with the convex region that can occlude.
+struct ExactVisibility::Impl {
+  struct Node {
+    Bounds3 box;
+    int first = 0, count = 0;  // leaf: triangles [first, first + count) of `order`
+    int right = -1;            // inner node: left child is the next node
+  };
+  Point3 centre;                   // occluders are stored relative to it (geo-referenced scenes)
+  std::vector<Triangle> triangles;
+  std::vector<int> order;
+  std::vector<Node> nodes;
+
+  int build(int first, int count, std::vector<Point3>& centroids) {
+    const int index = static_cast<int>(nodes.size());
+    nodes.emplace_back();
+    Bounds3 box, centroid_box;
+    for (int k = first; k < first + count; ++k) {
+      for (const Point3& v : triangles[order[k]].v) box.add(v);
+      centroid_box.add(centroids[order[k]]);
+    }
+    nodes[index].box = box;
+    if (count <= 4) {
+      nodes[index].first = first;
+      nodes[index].count = count;
+      return index;
+    }
+    const Vector3 d = centroid_box.diagonal();
+    const int axis = d.x >= d.y && d.x >= d.z ? 0 : (d.y >= d.z ? 1 : 2);
+    const int half = count / 2;
+    std::nth_element(order.begin() + first, order.begin() + first + half, order.begin() + first + count,
+                     [&](int a, int b) { return centroids[a][axis] < centroids[b][axis]; });
+    build(first, half, centroids);
+    const int right = build(first + half, count - half, centroids);
+    nodes[index].right = right;
+    return index;
+  }
+
+  template <class Visit>
+  void query(std::span<const HalfSpace> region, Visit&& visit) const {
+    if (nodes.empty()) return;
+    std::vector<int> stack = {0};
+    while (!stack.empty()) {
+      const Node& node = nodes[stack.back()];
+      const int index = stack.back();
+      stack.pop_back();
+      if (std::any_of(region.begin(), region.end(), [&](const HalfSpace& h) { return box_outside(node.box, h); }))
+        continue;
+      if (node.right < 0) {
+        for (int k = node.first; k < node.first + node.count; ++k) visit(triangles[order[k]]);
+      } else {
+        stack.push_back(node.right);
+        stack.push_back(index + 1);
+      }
+    }
+  }
+};
+
+ExactVisibility::ExactVisibility(std::span<const Triangle> occluders) : impl_(std::make_unique<Impl>()) {
+  Bounds3 all;
+  for (const Triangle& t : occluders)
+    for (const Point3& v : t.v) all.add(v);
+  impl_->centre = all.empty() ? Point3{} : all.center();
+  const Vector3 shift = to_vector(impl_->centre);
+  std::vector<Point3> centroids;
+  for (const Triangle& t : occluders) {
+    const Triangle local{{t.v[0] - shift, t.v[1] - shift, t.v[2] - shift}};
+    if (!(local.area() > 0)) continue;
+    impl_->triangles.push_back(local);
+    centroids.push_back(local.centroid());
+  }
+  impl_->order.resize(impl_->triangles.size());
+  std::iota(impl_->order.begin(), impl_->order.end(), 0);
+  if (!impl_->triangles.empty()) impl_->build(0, static_cast<int>(impl_->triangles.size()), centroids);
+}
+
+ExactVisibility::~ExactVisibility() = default;
+
+double ExactVisibility::visible_factor(const Point3& p_world, const Vector3& n, const Triangle& source_world) const {
+  const Vector3 shift = to_vector(impl_->centre);
+  const Point3 p = p_world - shift;
+  const Triangle S{{source_world.v[0] - shift, source_world.v[1] - shift, source_world.v[2] - shift}};
+  const Vector3 area_vector = S.area_vector();
+  if (!(length(area_vector) > 0)) return 0;
+  const Vector3 ns = normalize(area_vector);
+  const Point3& s0 = S.v[0];
+  const double h = dot(ns, p - s0);
+  if (!(h > 0)) return 0;  // p behind or in the source's plane: the source's front does not face it
+  const Point3 c = S.centroid();
+  const double scale = distance(p, c) + S.bounding_radius();
+
+  // The part of S in front of p's horizon.
+  const HalfSpace horizon{n, p, 1e-12 * scale};
+  SmallPolygon front;
+  front.count = 3;
+  std::copy(S.v.begin(), S.v.end(), front.v.begin());
+  front = clip(front, HalfSpace{n, p, 0});
+  if (front.count < 3) return 0;
+
+  // Region that can occlude: the cone from p over S enlarged by 5 %, above S's plane (by a margin
+  // relative to h: occluders in S's own plane, i.e. S's surface and its coplanar neighbours, do not
+  // occlude), in front of p's horizon, below p's height.
+  std::array<HalfSpace, 6> region;
+  for (int e = 0; e < 3; ++e) {
+    const Point3 a = c + (S.v[e] - c) * 1.05, b = c + (S.v[(e + 1) % 3] - c) * 1.05;
+    Vector3 m = cross(a - p, b - p);
+    if (dot(m, c - p) < 0) m = -m;
+    region[e] = HalfSpace{m, p, 0};
+  }
+  region[3] = HalfSpace{ns, s0, 1e-9 * h};
+  region[4] = horizon;
+  region[5] = HalfSpace{-ns, s0, -h * (1 - 1e-12)};
+
+  const Vector3 e1 = normalize(S.v[1] - s0), e2 = cross(ns, e1);
+  auto to_plane = [&](const Point3& y) { return Point2d{dot(y - s0, e1), dot(y - s0, e2)}; };
+  std::vector<Loop2d> shadows;
+  impl_->query(region, [&](const Triangle& t) {
+    SmallPolygon part;
+    part.count = 3;
+    std::copy(t.v.begin(), t.v.end(), part.v.begin());
+    for (const HalfSpace& r : region) {
+      part = clip(part, r);
+      if (part.count < 3) return;
+    }
+    Loop2d shadow(part.count);
+    for (int k = 0; k < part.count; ++k) {
+      const Point3& q = part.v[k];
+      shadow[k] = to_plane(p + (q - p) * (h / (h - dot(ns, q - s0))));
+    }
+    shadows.push_back(std::move(shadow));
+  });
+
+  Loop2d source(front.count);
+  for (int k = 0; k < front.count; ++k) source[k] = to_plane(front.v[k]);
+  if (shadows.empty()) return point_boundary_factor(p, n, std::span<const Point3>(front.v.data(), front.count));
+  booleans_.fetch_add(1, std::memory_order_relaxed);
+  double factor = 0;
+  std::vector<Point3> loop3;
+  for (const Loop2d& loop : convex_difference(source, shadows)) {
+    loop3.clear();
+    for (const Point2d& y : loop) loop3.push_back(s0 + e1 * y[0] + e2 * y[1]);
+    factor += point_boundary_factor(p, n, loop3);
+  }
+  return std::max(0.0, factor);
+}
+
+}  // namespace lambert

@@ -1,0 +1,46 @@
+// Exact partial visibility of an area source from a point (issue 4, item 5).
+//
+// Where rays find a source partly occluded, the factor of the part that is visible is computed
+// exactly: every occluding triangle between the point and the source's plane is projected centrally
+// from the point onto that plane, the projections are united and subtracted from the source polygon
+// with CGAL's 2D Boolean operations (exact predicates and constructions), and the point-to-polygon
+// contour integral is summed over the visible pieces and their holes. So E = π L F(visible part) holds
+// to round-off, for any number and shape of occluders (the CIE 171 case 5.7 geometry, REFERENCES V9).
+// Rays remain the fast path for wholly visible and wholly hidden sources; this is for the rest.
+//
+// The Boolean operations are CGAL's, behind mesh/polygon_boolean.h.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <span>
+
+#include "mesh/geometry.h"
+
+namespace lambert {
+
+class ExactVisibility {
+ public:
+  // Occluders: the scene's triangles in metres (the input triangles, not the patches: fewer and larger
+  // occluders make fewer, simpler projections). Indexed by a bounding-volume hierarchy.
+  explicit ExactVisibility(std::span<const Triangle> occluders);
+  ~ExactVisibility();
+  ExactVisibility(const ExactVisibility&) = delete;
+  ExactVisibility& operator=(const ExactVisibility&) = delete;
+
+  // Point-to-polygon factor F(dA_p -> visible part of `source`), for a receiver at p with unit normal
+  // n; equal to point_triangle_factor(p, n, source) when nothing occludes. Occluders lying in the
+  // source's plane or in p's horizon plane (the surfaces the source and p sit on) do not occlude.
+  double visible_factor(const Point3& p, const Vector3& n, const Triangle& source) const;
+
+  // Number of visible_factor calls that needed the Boolean operations (some occluder projected).
+  std::uint64_t boolean_evaluations() const { return booleans_.load(std::memory_order_relaxed); }
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+  mutable std::atomic<std::uint64_t> booleans_{0};
+};
+
+}  // namespace lambert
