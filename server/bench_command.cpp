@@ -1,7 +1,7 @@
 // `lambert bench`: built-in reference scenes with exact answers (REFERENCES.md), each solved at a
 // ladder of patch sizes; one table row per (scene, setting) with time, patches, rays, ray throughput,
 // peak memory and the error against the closed form. The scenes go through the same JSON decoder as
-// users' scenes, so the whole pipeline is measured.
+// users' scenes, so the whole pipeline is measured. --plot draws time against error, one series per scene.
 #include "server/bench_command.h"
 
 #include <sys/resource.h>
@@ -14,7 +14,9 @@
 #include <functional>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <stdexcept>
 
+#include "server/bench_plot.h"
 #include "server/scene_codec.h"
 #include "solver/closed_forms.h"
 #include "solver/radiosity.h"
@@ -152,22 +154,26 @@ double peak_rss_mb() {
 }  // namespace
 
 int run_bench(const std::vector<std::string>& args) {
-  std::string json_path;
+  std::string json_path, plot_path;
   std::vector<double> ladder = {150, 300, 600, 1200, 2400};  // patches ≈ total area / max_patch_area
   for (std::size_t k = 0; k < args.size(); ++k) {
     if (args[k] == "-o" && k + 1 < args.size()) {
       json_path = args[++k];
+    } else if (args[k] == "--plot" && k + 1 < args.size()) {
+      plot_path = args[++k];
     } else if (args[k] == "--quick") {
       ladder = {150, 600};
     } else {
-      std::cerr << "usage: lambert bench [--quick] [-o BENCH.json]\n";
+      std::cerr << "usage: lambert bench [--quick] [-o BENCH.json] [--plot BENCH.png]\n";
       return 2;
     }
   }
   std::printf("%-26s %-32s %9s %8s %10s %8s %9s %9s %10s\n", "scene", "error measure", "patches", "time_s",
               "rays", "Mrays/s", "peak_MB", "systems", "error");
   json rows = json::array();
+  std::vector<PlotSeries> series;
   for (const Case& c : cases()) {
+    series.push_back({c.name, {}});
     for (double divisions : ladder) {
       json scene = c.scene;
       scene["meshing"] = {{"max_patch_area", c.total_area / divisions}};
@@ -191,10 +197,19 @@ int run_bench(const std::vector<std::string>& args) {
                       {"patches", sol.stats.patches}, {"time_s", seconds}, {"rays", sol.stats.rays},
                       {"form_factor_and_probe_Mrays_per_s", mrays}, {"peak_rss_mb", peak_rss_mb()},
                       {"error", error}});
+      series.back().points.push_back({seconds, error});
     }
   }
   if (!json_path.empty()) {
     std::ofstream(json_path) << json{{"lambert_bench", 1}, {"rows", rows}}.dump(1) << "\n";
+  }
+  if (!plot_path.empty()) {
+    try {
+      plot_speed_against_error(series, plot_path);
+    } catch (const std::runtime_error& e) {
+      std::cerr << "lambert bench: " << e.what() << "\n";
+      return 1;
+    }
   }
   return 0;
 }

@@ -25,7 +25,8 @@ constexpr const char* kUsage =
     "  lambert check SCENE.json                    validate only: every problem with its JSON pointer\n"
     "  lambert serve [--host 127.0.0.1] [--port 8080] [--threads N] [--data-dir DIR] [--mesh-root DIR]\n"
     "                                              the HTTP service (lambert serve --help for every option)\n"
-    "  lambert bench [--quick] [-o BENCH.json]     speed against error on built-in reference scenes\n"
+    "  lambert bench [--quick] [-o BENCH.json] [--plot BENCH.png]\n"
+    "                                              speed against error on built-in reference scenes\n"
     "  lambert compare-rgb SCENE.json [-o REPORT.json]  spectral against rgb mode: per-patch dE00 and lux\n"
     "  lambert render                              (not available in this version)\n";
 
