@@ -35,6 +35,9 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
+// The solver's own patch limit: about 1 KB of elements, links and spectra per patch, i.e. some GB
+// at this count (the 10^6-triangle target needs 8 GiB at most).
+constexpr std::size_t kMaxHierarchicalPatches = 4'000'000;
 constexpr int kRootLevels = 3;         // a root holds at most 4^3 = 64 output patches
 constexpr int kRefineRounds = 3;
 // ε = accuracy × (mean radiosity) / kPowerShare: the irradiance error a link may carry at the patch
@@ -531,10 +534,7 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
     double total_area = 0;
     for (const Surface& s : scene.surfaces)
       for (std::size_t t = 0; t < s.mesh.triangles.size(); ++t) total_area += s.mesh.triangle(t).area();
-    if (control.max_patches > 0 && total_area / max_area * (1 - 1e-9) > static_cast<double>(control.max_patches))
-      throw SolveError("meshing gives at least " + std::to_string(static_cast<std::size_t>(total_area / max_area)) +
-                       " patches, more than this server's limit of " + std::to_string(control.max_patches) +
-                       " (max_patches); increase meshing.max_patch_area");
+    check_patch_count(total_area / max_area, true, kMaxHierarchicalPatches, control);
   }
   const double root_area = max_area * std::pow(4.0, kRootLevels);
   for (std::size_t s = 0; s < scene.surfaces.size(); ++s) {
@@ -563,9 +563,7 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
       h.leaves.push_back(static_cast<int>(e));
     }
   const std::size_t N = h.leaves.size();
-  if (control.max_patches > 0 && N > control.max_patches)
-    throw SolveError("meshing gives " + std::to_string(N) + " patches, more than this server's limit of " +
-                     std::to_string(control.max_patches) + " (max_patches); increase meshing.max_patch_area");
+  check_patch_count(static_cast<double>(N), false, kMaxHierarchicalPatches, control);
   h.root_order = h.roots;
   if (!h.roots.empty()) build_clusters(h, 0, static_cast<int>(h.roots.size()));
   sol.patches.resize(N);

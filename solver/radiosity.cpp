@@ -177,6 +177,19 @@ double default_max_patch_area(const Scene& scene) {
 
 Solution solve_dense(const Scene& scene, const SolveControl& control, const std::vector<Patch>* premeshed);
 
+void check_patch_count(double patches, bool estimate, std::size_t solver_limit, const SolveControl& control) {
+  const std::size_t limit = control.max_patches > 0 ? std::min(control.max_patches, solver_limit) : solver_limit;
+  // An estimate (total area / max area) is a lower bound up to rounding of the areas.
+  if (!((estimate ? patches * (1 - 1e-9) : patches) > static_cast<double>(limit))) return;
+  const std::string count =
+      (estimate ? "at least " : "") + std::to_string(static_cast<std::size_t>(std::min(patches, 1e18)));
+  if (limit == control.max_patches)
+    throw SolveError("meshing gives " + count + " patches, more than this server's limit of " +
+                     std::to_string(limit) + " (max_patches); increase meshing.max_patch_area");
+  throw SolveError("meshing gives " + count + " patches, more than this solver's limit of " + std::to_string(limit) +
+                   "; increase meshing.max_patch_area (it is in the scene's units squared)");
+}
+
 Solution solve(const Scene& scene, const SolveControl& control) {
   // Method selection (scene.h SolverMethod): Auto estimates the meshed patch count from the areas.
   SolverMethod method = scene.solver.method;
@@ -236,23 +249,14 @@ Solution solve_dense(const Scene& scene, const SolveControl& control, const std:
   // Every patch has an area <= max_area, so total area / max_area bounds the patch count from below:
   // a limit that is sure to be exceeded is reported before meshing, which a tiny max_patch_area
   // would otherwise drive out of memory.
-  const std::size_t patch_limit =
-      control.max_patches > 0 ? std::min(control.max_patches, kMaxDensePatches) : kMaxDensePatches;
   auto check_patch_count = [&](double patches, bool estimate) {
-    if (!(patches > static_cast<double>(patch_limit))) return;
-    const std::string count = (estimate ? "at least " : "") + std::to_string(static_cast<std::size_t>(
-                                  std::min(patches, 1e18)));
-    if (patch_limit == control.max_patches)
-      throw SolveError("meshing gives " + count + " patches, more than this server's limit of " +
-                       std::to_string(patch_limit) + " (max_patches); increase meshing.max_patch_area");
-    throw SolveError(count + " patches exceed this solver's limit of " +
-                     std::to_string(kMaxDensePatches) + "; increase meshing.max_patch_area");
+    lambert::check_patch_count(patches, estimate, kMaxDensePatches, control);
   };
   {
     double total_area = 0;
     for (const Surface& s : scene.surfaces)
       for (std::size_t t = 0; t < s.mesh.triangles.size(); ++t) total_area += s.mesh.triangle(t).area();
-    if (!premeshed) check_patch_count(total_area / max_area * (1 - 1e-9), true);
+    if (!premeshed) check_patch_count(total_area / max_area, true);
   }
   if (premeshed) {
     sol.patches = *premeshed;

@@ -89,6 +89,13 @@ class SolveError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// Throws SolveError, naming meshing.max_patch_area, when a meshing gives (or, with `estimate`, would
+// give at least) more patches than min(solver_limit, control.max_patches): called before the
+// subdivision is allocated, so that a patch size in the wrong unit fails at once instead of exhausting
+// memory, and again with the real count.
+void check_patch_count(double patches, bool estimate, std::size_t solver_limit, const SolveControl& control);
+
+
 Solution solve(const Scene& scene, const SolveControl& control = {});
 
 // The default patch size when the scene does not set meshing.max_patch_area: total area / 1200,

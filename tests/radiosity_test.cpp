@@ -134,6 +134,25 @@ TEST(Radiosity, GreyScenesSolveOneSystem) {
     for (std::size_t w = 1; w < 81; ++w) ASSERT_EQ(sol.radiosity[i * 81 + w], sol.radiosity[i * 81]);
 }
 
+TEST(Radiosity, TinyPatchSizeFailsBeforeMeshingWithEitherMethod) {
+  // A patch size given in the wrong unit (mm² read as m²) asks for ~10^12 patches: every method
+  // must refuse at once, naming the field, instead of subdividing until memory runs out.
+  for (SolverMethod method : {SolverMethod::Auto, SolverMethod::Dense, SolverMethod::Hierarchical}) {
+    SceneBuilder b;
+    const int m = b.material("wall", 0.5);
+    b.surface("room", m, box({0, 0, 0}, {1, 1, 1}, true), 1.0);
+    b.max_patch_area(6e-12);
+    b.scene().solver.method = method;
+    try {
+      solve(b.scene());
+      ADD_FAILURE() << "no error";
+    } catch (const SolveError& e) {
+      EXPECT_NE(std::string(e.what()).find("meshing.max_patch_area"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("at least 100000000000"), std::string::npos) << e.what();
+    }
+  }
+}
+
 TEST(Radiosity, CancellationIsHonoured) {
   SceneBuilder b;
   const int m = b.material("wall", 0.5);
