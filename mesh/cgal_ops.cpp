@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <map>
 #include <sstream>
 #include <tuple>
 #include <utility>
@@ -382,6 +383,169 @@ MeshHealth check_mesh(const TriangleMesh& mesh) {
   std::sort(hits.begin(), hits.end());
   health.self_intersections = std::move(hits);
   return health;
+}
+
+// ---- imprint_contacts ---------------------------------------------------------------------
+
+namespace {
+
+// Constraints may cross (two boxes' footprints): Exact_predicates_tag lets the triangulation insert
+// the crossing points (constructed in double precision).
+using ImprintCDT = CGAL::Constrained_Delaunay_triangulation_2<K, CGAL::Default, CGAL::Exact_predicates_tag>;
+
+// The segment a→b where triangle u meets the plane of t (through t.v[0], unit normal n), if a part
+// of positive length of it lies inside t and not along an edge of t; false otherwise, or if u lies
+// in the plane. Distances below eps count as zero. The segment is returned whole, not clipped to t:
+// the triangulation then computes its crossings with t's edges itself and splits both there, where
+// a clipped end point rounded beside an edge would leave sliver pieces.
+bool contact_segment(const Triangle& t, const Vector3& n, const Triangle& u, double eps, Point3& a, Point3& b) {
+  double d[3];
+  int zero = 0, positive = 0, negative = 0;
+  for (int k = 0; k < 3; ++k) {
+    d[k] = dot(u.v[k] - t.v[0], n);
+    if (std::abs(d[k]) <= eps) { d[k] = 0; ++zero; }
+    else if (d[k] > 0) ++positive;
+    else ++negative;
+  }
+  if (zero == 3 || (zero + positive == 3 && zero < 2) || (zero + negative == 3 && zero < 2)) return false;
+  std::vector<Point3> ends;
+  for (int k = 0; k < 3; ++k) {
+    const int l = (k + 1) % 3;
+    if (d[k] == 0) ends.push_back(u.v[k] - n * dot(u.v[k] - t.v[0], n));  // onto the plane exactly
+    if (d[k] * d[l] < 0) {
+      const Point3 q = u.v[k] + (u.v[l] - u.v[k]) * (d[k] / (d[k] - d[l]));
+      ends.push_back(q - n * dot(q - t.v[0], n));
+    }
+  }
+  if (ends.size() < 2) return false;
+  a = ends[0];
+  b = ends[1];
+  // Clip a→b to t (Cyrus–Beck against the three edge half-planes, in t's plane).
+  double lo = 0, hi = 1;
+  const Vector3 ab = b - a;
+  for (int e = 0; e < 3; ++e) {
+    const Point3& p = t.v[e];
+    const Point3& q = t.v[(e + 1) % 3];
+    const Vector3 inward = cross(n, q - p);  // t is counter-clockwise about n
+    const double da = dot(a - p, inward), dab = dot(ab, inward);
+    const double scale = length(inward) * eps;
+    if (std::abs(dab) <= 1e-300) {
+      if (da < -scale) return false;
+      continue;
+    }
+    const double s = -da / dab;
+    if (dab > 0) lo = std::max(lo, s);
+    else hi = std::min(hi, s);
+  }
+  if (!(hi - lo > 0) || length(ab) * (hi - lo) <= 8 * eps) return false;
+  // Along an edge of t: both ends of the part inside within eps of the same edge line.
+  const Point3 in_a = a + ab * lo, in_b = a + ab * hi;
+  for (int e = 0; e < 3; ++e) {
+    const Point3& p = t.v[e];
+    const Vector3 edge = t.v[(e + 1) % 3] - p;
+    const double len = length(edge);
+    auto off_edge = [&](const Point3& x) { return length(cross(edge, x - p)) / len; };
+    if (off_edge(in_a) <= 4 * eps && off_edge(in_b) <= 4 * eps) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+ContactImprint imprint_contacts(const std::vector<TriangleMesh>& meshes, double tolerance) {
+  ContactImprint out;
+  out.meshes = meshes;
+  struct Ref { int mesh, triangle; };
+  std::vector<Ref> refs;
+  Bounds3 all;
+  for (int m = 0; m < static_cast<int>(meshes.size()); ++m)
+    for (int t = 0; t < static_cast<int>(meshes[m].triangles.size()); ++t) {
+      refs.push_back({m, t});
+      for (const Point3& p : meshes[m].triangle(t).v) all.add(p);
+    }
+  if (refs.size() < 2) return out;
+  const double eps = tolerance * std::max(length(all.diagonal()), 1e-300);
+
+  using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, int>;
+  std::vector<Box> boxes;
+  for (int r = 0; r < static_cast<int>(refs.size()); ++r) {
+    const Triangle t = meshes[refs[r].mesh].triangle(refs[r].triangle);
+    Bounds3 b;
+    for (const Point3& p : t.v) b.add(p);
+    double lo[3] = {b.lo.x - eps, b.lo.y - eps, b.lo.z - eps}, hi[3] = {b.hi.x + eps, b.hi.y + eps, b.hi.z + eps};
+    boxes.emplace_back(Box(lo, hi, r));
+  }
+  std::vector<std::vector<std::pair<Point3, Point3>>> cuts(refs.size());
+  auto consider = [&](int ti, int ui) {
+    const Ref& rt = refs[ti];
+    const Ref& ru = refs[ui];
+    if (rt.mesh == ru.mesh) {  // neighbours in one mesh meet along their own edges
+      const auto& a = meshes[rt.mesh].triangles[rt.triangle];
+      const auto& b = meshes[ru.mesh].triangles[ru.triangle];
+      for (int x : a)
+        for (int y : b)
+          if (x == y) return;
+    }
+    const Triangle t = meshes[rt.mesh].triangle(rt.triangle);
+    const Triangle u = meshes[ru.mesh].triangle(ru.triangle);
+    if (!(t.area() > 0) || !(u.area() > 0)) return;
+    Point3 a, b;
+    if (contact_segment(t, t.normal(), u, eps, a, b)) cuts[ti].emplace_back(a, b);
+  };
+  CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), [&](const Box& a, const Box& b) {
+    consider(a.info(), b.info());
+    consider(b.info(), a.info());
+  });
+
+  // Rebuild each mesh: untouched triangles as they were, cut ones by their pieces.
+  for (int m = 0; m < static_cast<int>(meshes.size()); ++m) out.meshes[m].triangles.clear();
+  for (int r = 0; r < static_cast<int>(refs.size()); ++r) {
+    TriangleMesh& mesh = out.meshes[refs[r].mesh];
+    const auto& original = meshes[refs[r].mesh].triangles[refs[r].triangle];
+    if (cuts[r].empty()) {
+      mesh.triangles.push_back(original);
+      continue;
+    }
+    const Triangle t = meshes[refs[r].mesh].triangle(refs[r].triangle);
+    const Vector3 n = t.normal();
+    const Vector3 e1 = normalize(t.v[1] - t.v[0]), e2 = cross(n, e1);
+    auto to_2d = [&](const Point3& p) { return P2(dot(p - t.v[0], e1), dot(p - t.v[0], e2)); };
+    ImprintCDT cdt;
+    std::vector<ImprintCDT::Vertex_handle> corners;
+    for (const Point3& p : t.v) corners.push_back(cdt.insert(to_2d(p)));
+    for (int k = 0; k < 3; ++k) cdt.insert_constraint(corners[k], corners[(k + 1) % 3]);
+    for (const auto& [a, b] : cuts[r]) cdt.insert_constraint(to_2d(a), to_2d(b));
+    std::map<ImprintCDT::Vertex_handle, int> index;
+    for (int k = 0; k < 3; ++k) index[corners[k]] = original[k];  // the corners stay shared
+    std::size_t pieces = 0;
+    for (ImprintCDT::Face_handle f : cdt.finite_face_handles()) {
+      // Segments reach beyond t: keep the faces inside it (centroid inside t's three edges).
+      const P2 centroid = CGAL::centroid(f->vertex(0)->point(), f->vertex(1)->point(), f->vertex(2)->point());
+      bool inside = true;
+      for (int k = 0; k < 3; ++k)
+        inside &= CGAL::orientation(corners[k]->point(), corners[(k + 1) % 3]->point(), centroid) != CGAL::RIGHT_TURN;
+      if (!inside) continue;
+      std::array<int, 3> tri{};
+      for (int k = 0; k < 3; ++k) {
+        const auto v = f->vertex(k);
+        auto [it, added] = index.try_emplace(v, 0);
+        if (added) {
+          const P2& q = v->point();
+          mesh.vertices.push_back(t.v[0] + e1 * q.x() + e2 * q.y());
+          it->second = static_cast<int>(mesh.vertices.size()) - 1;
+        }
+        tri[k] = it->second;
+      }
+      // The triangulation is counter-clockwise in (e1, e2), i.e. about n: t's orientation.
+      mesh.triangles.push_back(tri);
+      ++pieces;
+    }
+    if (pieces > 1) {
+      ++out.triangles_cut;
+      out.segments += cuts[r].size();
+    }
+  }
+  return out;
 }
 
 }  // namespace lambert

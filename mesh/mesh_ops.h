@@ -36,6 +36,22 @@ struct MeshHealth {
 // Health report of a mesh (CGAL Polygon Mesh Processing). Indices refer to mesh.triangles.
 MeshHealth check_mesh(const TriangleMesh& mesh);
 
+struct ContactImprint {
+  std::vector<TriangleMesh> meshes;  // the input meshes, with cut triangles replaced by their pieces
+  std::size_t triangles_cut = 0;     // input triangles that were cut
+  std::size_t segments = 0;          // contact segments imprinted
+};
+
+// Cuts every triangle along the segments where triangles of other meshes touch or cross its plane
+// inside it (a box resting on a floor: the floor is cut along the box's footprint), so that no
+// patch made from it straddles a contact line: the part under the box and the part beside it get
+// their own patches, and light falling beside the box is not smeared under it. Triangles lying in
+// the plane (coplanar faces) and segments along a triangle's own edges do not cut. Pieces come from
+// a constrained Delaunay triangulation (CGAL, exact predicates) of the triangle and its segments,
+// keep the triangle's orientation and are not conforming with the neighbours (T-junctions are
+// harmless to radiosity patches). `tolerance` is relative to the scene's bounding-box diagonal.
+ContactImprint imprint_contacts(const std::vector<TriangleMesh>& meshes, double tolerance = 1e-9);
+
 // ---- OpenMesh (mesh/openmesh_ops.cpp) --------------------------------------------------------
 
 struct MeshFileResult {

@@ -182,6 +182,7 @@ std::string encode_result(const Scene& scene, const Solution& sol, const Report&
       {"spectral_systems_solved", st.spectral_systems_solved},
       {"max_patch_area_m2", st.max_patch_area_m2},
       {"adaptive_rounds", st.adaptive_rounds},
+      {"contact_triangles_cut", st.contact_triangles_cut},
       {"energy",
        {{"emitted_W", st.emitted_W},
         {"absorbed_W", st.absorbed_W},

@@ -190,7 +190,27 @@ void check_patch_count(double patches, bool estimate, std::size_t solver_limit, 
                    "; increase meshing.max_patch_area (it is in the scene's units squared)");
 }
 
+namespace {
+Solution solve_method(const Scene& scene, const SolveControl& control);
+}  // namespace
+
 Solution solve(const Scene& scene, const SolveControl& control) {
+  // Contacts first: surfaces are cut where other surfaces touch or cross them (mesh_ops.h,
+  // imprint_contacts), so that no patch straddles a box's footprint on a floor.
+  std::vector<TriangleMesh> meshes;
+  meshes.reserve(scene.surfaces.size());
+  for (const Surface& s : scene.surfaces) meshes.push_back(s.mesh);
+  ContactImprint imprint = imprint_contacts(meshes);
+  if (imprint.triangles_cut == 0) return solve_method(scene, control);
+  Scene cut = scene;
+  for (std::size_t s = 0; s < cut.surfaces.size(); ++s) cut.surfaces[s].mesh = std::move(imprint.meshes[s]);
+  Solution sol = solve_method(cut, control);
+  sol.stats.contact_triangles_cut = imprint.triangles_cut;
+  return sol;
+}
+
+namespace {
+Solution solve_method(const Scene& scene, const SolveControl& control) {
   // Method selection (scene.h SolverMethod): Auto estimates the meshed patch count from the areas.
   SolverMethod method = scene.solver.method;
   if (method == SolverMethod::Auto) {
@@ -233,6 +253,8 @@ Solution solve(const Scene& scene, const SolveControl& control) {
   if (control.progress) control.progress(1.0);
   return sol;
 }
+
+}  // namespace
 
 Solution solve_dense(const Scene& scene, const SolveControl& control, const std::vector<Patch>* premeshed) {
   const auto t_start = Clock::now();

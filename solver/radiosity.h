@@ -45,6 +45,7 @@ struct SolveStats {
   double time_meshing_s = 0, time_visibility_s = 0, time_form_factors_s = 0, time_solve_s = 0,
          time_probes_s = 0, time_total_s = 0;
   double max_patch_area_m2 = 0;
+  std::size_t contact_triangles_cut = 0;  // input triangles cut along other surfaces' contact lines
   int adaptive_rounds = 0;             // meshing.adaptive: how many refine-and-solve rounds ran
 };
 

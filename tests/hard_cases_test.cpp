@@ -74,6 +74,31 @@ TEST(HardCases, ReflectanceNearOneConvergesFast) {
   EXPECT_LT(sol.stats.iterations, 200);
 }
 
+TEST(HardCases, BoxStandingOnALitFloor) {
+  // A black box (four walls and a top, no bottom) stands on a grey floor (ρ = 0.5) lit straight from
+  // above (E0 = 1). Beside the box the floor's radiosity is ρ E0, under it 0, and nothing else
+  // reflects, so the +x wall's mean irradiance is ρ E0 F(wall -> floor in front of it), Howell C-14
+  // with the common edge l = 0.6, wall height 0.5 and floor depth 0.7. With coarse patches this holds
+  // only if the floor is cut along the footprint: a patch straddling the wall's foot would spread the
+  // light of its lit half over its dark half.
+  SceneBuilder b;
+  const int grey = b.material("grey", 0.5), black = b.material("black", 0.0);
+  b.surface("floor", grey, rectangle({-0.3, -0.3, 0}, {1.3, 0, 0}, {0, 0.6, 0}));
+  const int wall = static_cast<int>(b.scene().surfaces.size());
+  b.surface("wall+x", black, rectangle({0.3, -0.3, 0}, {0, 0.6, 0}, {0, 0, 0.5}));
+  b.surface("wall-x", black, rectangle({-0.3, -0.3, 0}, {0, 0, 0.5}, {0, 0.6, 0}));
+  b.surface("wall+y", black, rectangle({-0.3, 0.3, 0}, {0, 0, 0.5}, {0.6, 0, 0}));
+  b.surface("wall-y", black, rectangle({-0.3, -0.3, 0}, {0.6, 0, 0}, {0, 0, 0.5}));
+  b.surface("top", black, rectangle({-0.3, -0.3, 0.5}, {0.6, 0, 0}, {0, 0.6, 0}));
+  b.scene().lights.push_back(DirectionalLight{{0, 0, -1}, {1.0}});
+  b.scene().light_pointers.push_back("/lights/0");
+  b.max_patch_area(0.1);  // a handful of floor patches: without the cut they straddle x = 0.3
+  const Solution sol = solve(b.scene());
+  EXPECT_GE(sol.stats.contact_triangles_cut, 1u);
+  const double exact = 0.5 * test::howell_c14(0.5 / 0.6, 0.7 / 0.6);
+  EXPECT_NEAR(surface_mean(sol, wall, sol.irradiance) / exact - 1, 0, 1e-4);
+}
+
 TEST(HardCases, MisorientedWallIsReportedAsALeak) {
   // One wall of a closed room faces outwards: patches that see its back get a warning naming them.
   SceneBuilder b;

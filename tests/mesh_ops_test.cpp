@@ -534,3 +534,66 @@ TEST(Subdivide, HundredThousandPatchesFastAndDeterministic) {
 
 }  // namespace
 }  // namespace lambert
+
+namespace lambert {
+namespace {
+
+TriangleMesh quad_mesh(const Point3& o, const Vector3& u, const Vector3& v) {
+  return {{o, o + u, o + u + v, o + v}, {{0, 1, 2}, {0, 2, 3}}};
+}
+
+double mesh_area(const TriangleMesh& m) {
+  double a = 0;
+  for (std::size_t t = 0; t < m.triangles.size(); ++t) a += m.triangle(t).area();
+  return a;
+}
+
+TEST(ImprintContacts, FloorIsCutAlongTheFootprintOfABoxStandingOnIt) {
+  // A 2 × 2 floor (two triangles) and the four walls of a 0.6 × 0.6 × 0.5 box standing on it,
+  // off-centre so that its footprint crosses the floor's diagonal.
+  const TriangleMesh floor = quad_mesh({-1, -1, 0}, {2, 0, 0}, {0, 2, 0});
+  TriangleMesh walls;
+  const double x0 = -0.5, x1 = 0.1, y0 = -0.2, y1 = 0.4, h = 0.5;
+  const Point3 c[4] = {{x0, y0, 0}, {x1, y0, 0}, {x1, y1, 0}, {x0, y1, 0}};
+  for (int k = 0; k < 4; ++k) {
+    const int b = static_cast<int>(walls.vertices.size());
+    const Point3 a = c[k], d = c[(k + 1) % 4];
+    walls.vertices.insert(walls.vertices.end(), {a, d, d + Vector3{0, 0, h}, a + Vector3{0, 0, h}});
+    walls.triangles.push_back({b, b + 1, b + 2});
+    walls.triangles.push_back({b, b + 2, b + 3});
+  }
+  const ContactImprint r = imprint_contacts({floor, walls});
+  EXPECT_EQ(r.triangles_cut, 2u);  // both floor triangles; the walls are not cut by the floor's plane
+  EXPECT_EQ(r.meshes[1].triangles.size(), walls.triangles.size());
+  const TriangleMesh& cut = r.meshes[0];
+  EXPECT_NEAR(mesh_area(cut), 4.0, 1e-12);  // nothing lost or doubled
+  // No piece straddles the footprint: each lies wholly inside or wholly outside it, and the pieces
+  // inside add up to the footprint's area. Pieces keep the floor's orientation (+z).
+  double inside_area = 0;
+  for (std::size_t t = 0; t < cut.triangles.size(); ++t) {
+    const Triangle tri = cut.triangle(t);
+    EXPECT_GT(tri.area_vector().z, 0);
+    const Point3 g = tri.centroid();
+    const bool inside = g.x > x0 && g.x < x1 && g.y > y0 && g.y < y1;
+    for (const Point3& p : tri.v) {
+      const bool in_closed = p.x >= x0 - 1e-12 && p.x <= x1 + 1e-12 && p.y >= y0 - 1e-12 && p.y <= y1 + 1e-12;
+      const bool out_closed = p.x <= x0 + 1e-12 || p.x >= x1 - 1e-12 || p.y <= y0 + 1e-12 || p.y >= y1 - 1e-12;
+      EXPECT_TRUE(inside ? in_closed : out_closed) << "piece " << t << " straddles the footprint";
+    }
+    if (inside) inside_area += tri.area();
+  }
+  EXPECT_NEAR(inside_area, (x1 - x0) * (y1 - y0), 1e-12);
+}
+
+TEST(ImprintContacts, CoplanarAndDistantSurfacesAndOwnNeighboursDoNotCut) {
+  const TriangleMesh floor = quad_mesh({0, 0, 0}, {1, 0, 0}, {0, 1, 0});
+  const TriangleMesh rug = quad_mesh({0.2, 0.2, 0}, {0.3, 0, 0}, {0, 0.3, 0});        // coplanar
+  const TriangleMesh shelf = quad_mesh({0.2, 0.2, 0.5}, {0.3, 0, 0}, {0, 0.3, 0});    // parallel, above
+  const TriangleMesh wall = quad_mesh({0, 0, 0}, {1, 0, 0}, {0, 0, 1});              // along the edge
+  const ContactImprint r = imprint_contacts({floor, rug, shelf, wall});
+  EXPECT_EQ(r.triangles_cut, 0u);
+  for (std::size_t m = 0; m < 4; ++m) EXPECT_EQ(r.meshes[m].triangles.size(), 2u);
+}
+
+}  // namespace
+}  // namespace lambert
