@@ -145,6 +145,73 @@ std::vector<Case> cases() {
   return out;
 }
 
+// The scaling scene: a 20 × 10 × 3 m open-plan office (walls facing in) with a 10 × 5 grid of
+// desk-sized boxes floating 1 cm above the floor (the gap keeps contact out of this measurement),
+// every surface ρ = 0.5 and M = 1, so that B = M/(1 − ρ) = 2 exactly everywhere (a furnace); solved
+// by the hierarchical method at a ladder of patch counts.
+double peak_rss_mb();
+
+struct ScalingScene {
+  json scene;
+  double total_area = 0;
+};
+ScalingScene office_furnace() {
+  ScalingScene out;
+  out.scene = {{"name", "office-furnace"},
+               {"spectrum", {{"mode", "spectral"}, {"wavelengths_nm", {555}}}},
+               {"materials", {{"grey", {{"reflectance", 0.5}}}}},
+               {"solver", {{"method", "hierarchical"}}}};
+  json surfaces = json::array();
+  surfaces.push_back({{"name", "room"}, {"material", "grey"}, {"mesh", box({0, 0, 0}, {20, 10, 3}, true)},
+                      {"emission", {{"exitance", 1.0}}}});
+  out.total_area = 2 * (20 * 10 + 20 * 3 + 10 * 3);
+  for (int i = 0; i < 10; ++i)
+    for (int j = 0; j < 5; ++j) {
+      const double x = 1 + 1.9 * i, y = 0.8 + 1.8 * j;
+      surfaces.push_back({{"name", "desk-" + std::to_string(i) + "-" + std::to_string(j)},
+                          {"material", "grey"},
+                          {"mesh", box({x, y, 0.01}, {x + 1.6, y + 0.8, 0.75}, false)},
+                          {"emission", {{"exitance", 1.0}}}});
+      out.total_area += 2 * (1.6 * 0.8 + 1.6 * 0.74 + 0.8 * 0.74);
+    }
+  out.scene["surfaces"] = surfaces;
+  return out;
+}
+
+// `lambert bench --scaling MAX`: the office furnace at 10^3, 10^4, ... patches up to MAX.
+int run_scaling(double max_patches, const std::string& json_path) {
+  const ScalingScene office = office_furnace();
+  std::printf("%-16s %9s %10s %11s %8s %8s %9s %12s %12s\n", "scene", "patches", "links", "rays", "time_s",
+              "Mrays/s", "peak_MB", "closure_corr", "max|B/2-1|");
+  json rows = json::array();
+  for (double target = 1e3; target <= max_patches * (1 + 1e-9); target *= 10) {
+    json scene = office.scene;
+    scene["meshing"] = {{"max_patch_area", office.total_area / target}};
+    const DecodeResult decoded = decode_scene(scene.dump(), FileAccess{FileAccess::Policy::Deny, {}, {}});
+    if (!decoded.ok()) {
+      std::cerr << "office-furnace: " << format_errors(decoded.errors);
+      return 1;
+    }
+    const auto t0 = std::chrono::steady_clock::now();
+    const Solution sol = solve(*decoded.scene);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    double worst = 0;
+    for (double b : sol.radiosity) worst = std::max(worst, std::abs(b / 2 - 1));
+    const double ray_seconds = sol.stats.time_form_factors_s + sol.stats.time_probes_s;
+    const double mrays = ray_seconds > 0 ? sol.stats.rays / ray_seconds / 1e6 : 0;
+    std::printf("%-16s %9zu %10zu %11llu %8.2f %8.1f %9.0f %12.2e %12.2e\n", "office-furnace", sol.stats.patches,
+                sol.stats.links, static_cast<unsigned long long>(sol.stats.rays), seconds, mrays, peak_rss_mb(),
+                sol.stats.max_closure_error, worst);
+    std::fflush(stdout);
+    rows.push_back({{"scene", "office-furnace"}, {"method", "hierarchical"}, {"patches", sol.stats.patches},
+                    {"links", sol.stats.links}, {"rays", sol.stats.rays}, {"time_s", seconds},
+                    {"form_factor_and_probe_Mrays_per_s", mrays}, {"peak_rss_mb", peak_rss_mb()},
+                    {"closure_correction", sol.stats.max_closure_error}, {"max_error", worst}});
+  }
+  if (!json_path.empty()) std::ofstream(json_path) << json{{"lambert_bench_scaling", 1}, {"rows", rows}}.dump(1) << "\n";
+  return 0;
+}
+
 double peak_rss_mb() {
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
@@ -155,6 +222,7 @@ double peak_rss_mb() {
 
 int run_bench(const std::vector<std::string>& args) {
   std::string json_path, plot_path;
+  double scaling_max = 0;
   std::vector<double> ladder = {150, 300, 600, 1200, 2400};  // patches ≈ total area / max_patch_area
   for (std::size_t k = 0; k < args.size(); ++k) {
     if (args[k] == "-o" && k + 1 < args.size()) {
@@ -163,11 +231,23 @@ int run_bench(const std::vector<std::string>& args) {
       plot_path = args[++k];
     } else if (args[k] == "--quick") {
       ladder = {150, 600};
+    } else if (args[k] == "--scaling" && k + 1 < args.size()) {
+      try {
+        scaling_max = std::stod(args[++k]);
+      } catch (const std::exception&) {
+        scaling_max = 0;
+      }
+      if (!(scaling_max >= 1e3 && scaling_max <= 4e6)) {
+        std::cerr << "lambert bench: --scaling takes the largest patch count, 1000 to 4e6\n";
+        return 2;
+      }
     } else {
-      std::cerr << "usage: lambert bench [--quick] [-o BENCH.json] [--plot BENCH.png]\n";
+      std::cerr << "usage: lambert bench [--quick] [-o BENCH.json] [--plot BENCH.png]\n"
+                   "       lambert bench --scaling MAX_PATCHES [-o SCALING.json]\n";
       return 2;
     }
   }
+  if (scaling_max > 0) return run_scaling(scaling_max, json_path);
   std::printf("%-26s %-32s %9s %8s %10s %8s %9s %9s %10s\n", "scene", "error measure", "patches", "time_s",
               "rays", "Mrays/s", "peak_MB", "systems", "error");
   json rows = json::array();

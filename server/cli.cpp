@@ -27,6 +27,8 @@ constexpr const char* kUsage =
     "                                              the HTTP service (lambert serve --help for every option)\n"
     "  lambert bench [--quick] [-o BENCH.json] [--plot BENCH.png]\n"
     "                                              speed against error on built-in reference scenes\n"
+    "  lambert bench --scaling MAX_PATCHES [-o SCALING.json]\n"
+    "                                              time and memory from 10^3 patches up to MAX_PATCHES\n"
     "  lambert compare-rgb SCENE.json [-o REPORT.json]  spectral against rgb mode: per-patch dE00 and lux\n"
     "  lambert render                              (not available in this version)\n";
 
