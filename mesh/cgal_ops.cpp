@@ -476,6 +476,7 @@ ContactImprint imprint_contacts(const std::vector<TriangleMesh>& meshes, double 
     boxes.emplace_back(Box(lo, hi, r));
   }
   std::vector<std::vector<std::pair<Point3, Point3>>> cuts(refs.size());
+  std::vector<std::vector<int>> facing(refs.size());  // coplanar triangles facing the other way
   auto consider = [&](int ti, int ui) {
     const Ref& rt = refs[ti];
     const Ref& ru = refs[ui];
@@ -489,8 +490,18 @@ ContactImprint imprint_contacts(const std::vector<TriangleMesh>& meshes, double 
     const Triangle t = meshes[rt.mesh].triangle(rt.triangle);
     const Triangle u = meshes[ru.mesh].triangle(ru.triangle);
     if (!(t.area() > 0) || !(u.area() > 0)) return;
+    const Vector3 n = t.normal();
     Point3 a, b;
-    if (contact_segment(t, t.normal(), u, eps, a, b)) cuts[ti].emplace_back(a, b);
+    if (contact_segment(t, n, u, eps, a, b)) {
+      cuts[ti].emplace_back(a, b);
+    } else if (dot(u.normal(), n) < 0 && std::all_of(u.v.begin(), u.v.end(), [&](const Point3& p) {
+                 return std::abs(dot(p - t.v[0], n)) <= eps;
+               })) {
+      // Face to face in one plane (a box's bottom on a floor): u's edges cut t, and the pieces of t
+      // under u are contact area, seen by nothing.
+      for (int k = 0; k < 3; ++k) cuts[ti].emplace_back(u.v[k], u.v[(k + 1) % 3]);
+      facing[ti].push_back(ui);
+    }
   };
   CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), [&](const Box& a, const Box& b) {
     consider(a.info(), b.info());
@@ -517,7 +528,7 @@ ContactImprint imprint_contacts(const std::vector<TriangleMesh>& meshes, double 
     for (const auto& [a, b] : cuts[r]) cdt.insert_constraint(to_2d(a), to_2d(b));
     std::map<ImprintCDT::Vertex_handle, int> index;
     for (int k = 0; k < 3; ++k) index[corners[k]] = original[k];  // the corners stay shared
-    std::size_t pieces = 0;
+    std::size_t pieces = 0, removed = 0;
     for (ImprintCDT::Face_handle f : cdt.finite_face_handles()) {
       // Segments reach beyond t: keep the faces inside it (centroid inside t's three edges).
       const P2 centroid = CGAL::centroid(f->vertex(0)->point(), f->vertex(1)->point(), f->vertex(2)->point());
@@ -525,6 +536,18 @@ ContactImprint imprint_contacts(const std::vector<TriangleMesh>& meshes, double 
       for (int k = 0; k < 3; ++k)
         inside &= CGAL::orientation(corners[k]->point(), corners[(k + 1) % 3]->point(), centroid) != CGAL::RIGHT_TURN;
       if (!inside) continue;
+      const bool contact = std::any_of(facing[r].begin(), facing[r].end(), [&](int ui) {
+        const Triangle u = meshes[refs[ui].mesh].triangle(refs[ui].triangle);
+        const P2 a = to_2d(u.v[0]), b = to_2d(u.v[1]), c = to_2d(u.v[2]);  // clockwise in t's frame
+        return CGAL::orientation(a, b, centroid) != CGAL::LEFT_TURN &&
+               CGAL::orientation(b, c, centroid) != CGAL::LEFT_TURN &&
+               CGAL::orientation(c, a, centroid) != CGAL::LEFT_TURN;
+      });
+      if (contact) {
+        out.contact_area += std::abs(CGAL::area(f->vertex(0)->point(), f->vertex(1)->point(), f->vertex(2)->point()));
+        ++removed;
+        continue;
+      }
       std::array<int, 3> tri{};
       for (int k = 0; k < 3; ++k) {
         const auto v = f->vertex(k);
@@ -540,7 +563,7 @@ ContactImprint imprint_contacts(const std::vector<TriangleMesh>& meshes, double 
       mesh.triangles.push_back(tri);
       ++pieces;
     }
-    if (pieces > 1) {
+    if (pieces + removed > 1 || removed > 0) {
       ++out.triangles_cut;
       out.segments += cuts[r].size();
     }

@@ -40,13 +40,17 @@ struct ContactImprint {
   std::vector<TriangleMesh> meshes;  // the input meshes, with cut triangles replaced by their pieces
   std::size_t triangles_cut = 0;     // input triangles that were cut
   std::size_t segments = 0;          // contact segments imprinted
+  double contact_area = 0;           // area removed where two faces lie on each other (m² for metres)
 };
 
 // Cuts every triangle along the segments where triangles of other meshes touch or cross its plane
 // inside it (a box resting on a floor: the floor is cut along the box's footprint), so that no
 // patch made from it straddles a contact line: the part under the box and the part beside it get
-// their own patches, and light falling beside the box is not smeared under it. Triangles lying in
-// the plane (coplanar faces) and segments along a triangle's own edges do not cut. Pieces come from
+// their own patches, and light falling beside the box is not smeared under it. Segments along a
+// triangle's own edges do not cut. Coplanar triangles facing the same way do not cut each other;
+// coplanar triangles facing each other (a box's bottom on the floor) are contact: each is cut along
+// the other's edges and the pieces under the other are removed (nothing sees them), their area
+// summed in contact_area. Pieces come from
 // a constrained Delaunay triangulation (CGAL, exact predicates) of the triangle and its segments,
 // keep the triangle's orientation and are not conforming with the neighbours (T-junctions are
 // harmless to radiosity patches). `tolerance` is relative to the scene's bounding-box diagonal.

@@ -84,7 +84,8 @@ double visible_point_triangle_factor(const Point3& p, const Vector3& n, const Pa
 // (Fibonacci) in [0,1)², shifted per patch (Cranley–Patterson) so that no direction is missed
 // systematically, from the patch's stratified sample points. Returns 1 if every ray hits the front of
 // another patch (closed), 2 if one hits the back of a surface (an open enclosure underneath or a
-// surface facing the wrong way), 0 if one escapes the scene (open). An opening that subtends a
+// surface facing the wrong way), 3 if every ray does (the patch lies inside a closed solid, e.g. a
+// floor under a box standing on it), 0 if one escapes the scene (open). An opening that subtends a
 // fraction p of the projected hemisphere goes unseen with probability (1 − p)^1024: 3e-5 for p = 1 %.
 constexpr int kHemisphereRays = 1024;
 char hemisphere_is_closed(const std::vector<Patch>& patches, std::size_t i, const Visibility& vis) {
@@ -97,7 +98,7 @@ char hemisphere_is_closed(const std::vector<Patch>& patches, std::size_t i, cons
   // A deterministic per-patch shift (hash of the index) decorrelates neighbouring patches.
   const double shift1 = std::fmod((i + 1) * 0.7548776662466927, 1.0);
   const double shift2 = std::fmod((i + 1) * 0.5698402909980532, 1.0);
-  char result = 1;
+  int back = 0;
   for (int k = 0; k < kHemisphereRays; ++k) {
     const double u1 = std::fmod((k + 0.5) / kHemisphereRays + shift1, 1.0);
     const double u2 = std::fmod(k * kGolden + shift2, 1.0);
@@ -106,9 +107,9 @@ char hemisphere_is_closed(const std::vector<Patch>& patches, std::size_t i, cons
     const Point3 from = vis.lift(visibility_sample(p.triangle, k % kMaxVisibilitySamples), n);
     const int hit = vis.first_hit(from, from + d * reach);
     if (hit < 0) return 0;
-    if (dot(patches[hit].normal, d) >= 0) result = 2;
+    back += dot(patches[hit].normal, d) >= 0;
   }
-  return result;
+  return back == 0 ? 1 : (back == kHemisphereRays ? 3 : 2);
 }
 
 }  // namespace
@@ -116,6 +117,32 @@ char hemisphere_is_closed(const std::vector<Patch>& patches, std::size_t i, cons
 namespace {
 
 constexpr int kAdaptiveRounds = 2;
+
+// Removes patches (sorted indices) and their rows from a solution's per-patch outputs.
+void drop_patches(Solution& sol, const std::vector<std::size_t>& drop) {
+  if (drop.empty()) return;
+  const std::size_t W = sol.wavelengths(), N = sol.patches.size();
+  std::vector<char> gone(N, 0);
+  for (std::size_t i : drop) gone[i] = 1;
+  auto compact = [&](std::vector<double>& per_patch) {
+    if (per_patch.size() != N * W) return;
+    std::size_t kept = 0;
+    for (std::size_t i = 0; i < N; ++i)
+      if (!gone[i]) std::copy_n(&per_patch[i * W], W, &per_patch[kept++ * W]);
+    per_patch.resize(kept * W);
+  };
+  compact(sol.radiosity);
+  compact(sol.irradiance);
+  for (SourceContribution& c : sol.contributions) {
+    compact(c.radiosity);
+    compact(c.irradiance);
+  }
+  std::size_t kept = 0;
+  for (std::size_t i = 0; i < N; ++i)
+    if (!gone[i]) sol.patches[kept++] = sol.patches[i];
+  sol.patches.resize(kept);
+  sol.stats.patches = kept;
+}
 
 // Adaptive meshing (meshing.adaptive): a patch is split 1:4 where its irradiance differs from a
 // neighbour's (same surface, sharing a vertex) by more than 20 % of the pair's mean and by more than
@@ -206,6 +233,13 @@ Solution solve(const Scene& scene, const SolveControl& control) {
   for (std::size_t s = 0; s < cut.surfaces.size(); ++s) cut.surfaces[s].mesh = std::move(imprint.meshes[s]);
   Solution sol = solve_method(cut, control);
   sol.stats.contact_triangles_cut = imprint.triangles_cut;
+  sol.stats.contact_area_m2 = imprint.contact_area;
+  if (imprint.contact_area > 0) {
+    char text[64];
+    std::snprintf(text, sizeof text, "%.6g", imprint.contact_area);
+    sol.warnings.push_back(std::string(text) + " m² of surface lie face to face on other surfaces (e.g. a box's "
+                           "bottom on a floor): that contact area is hidden and left out of the patches");
+  }
   return sol;
 }
 
@@ -402,6 +436,7 @@ Solution solve_dense(const Scene& scene, const SolveControl& control, const std:
   const bool need_factors = any_emitter || (any_reflector && !sources.empty());
   std::vector<double> F;  // row-major N×N, F_ij = G_ij / A_i
   std::vector<double> row_sum(N, 0.0);
+  std::vector<std::size_t> enclosed;  // patches inside closed solids (hemisphere probe: back faces only)
   std::atomic<std::size_t> rows_done{0}, links{0};
   std::atomic<bool> cancelled{false};
   if (need_factors) {
@@ -482,15 +517,28 @@ Solution solve_dense(const Scene& scene, const SolveControl& control, const std:
       }
     });
     sol.stats.max_closure_error = worst_closure;
-    if (leaking_patches > 0) {
+    auto surfaces_where = [&](char kind) {
       std::set<std::string> names;
       for (std::size_t i = 0; i < N; ++i)
-        if (closed[i] == 2) names.insert(scene.surfaces[sol.patches[i].surface].name);
+        if (closed[i] == kind) names.insert(scene.surfaces[sol.patches[i].surface].name);
       std::string list;
       for (const auto& name : names) list += (list.empty() ? "" : ", ") + name;
-      sol.warnings.push_back(std::to_string(leaking_patches) + " patches (of " + list +
+      return list;
+    };
+    if (leaking_patches > 0)
+      sol.warnings.push_back(std::to_string(leaking_patches) + " patches (of " + surfaces_where(2) +
                              ") see the back of a surface: an enclosure is open underneath or a "
                              "surface faces the wrong way; light reaching a back side is lost");
+    for (std::size_t i = 0; i < N; ++i)
+      if (closed[i] == 3) enclosed.push_back(i);
+    if (!enclosed.empty()) {
+      double area = 0;
+      for (std::size_t i : enclosed) area += sol.patches[i].area_m2;
+      char text[64];
+      std::snprintf(text, sizeof text, "%.6g", area);
+      sol.warnings.push_back(std::to_string(enclosed.size()) + " patches (" + text + " m² of " + surfaces_where(3) +
+                             ") lie inside closed solids (e.g. under a box standing on a floor): they see only "
+                             "back faces, exchange no light with the scene and are left out of the result");
     }
     double worst = 0;
     for (std::size_t i = 0; i < N; ++i)
@@ -686,6 +734,8 @@ Solution solve_dense(const Scene& scene, const SolveControl& control, const std:
   account_energy(scene.grid, sources, sol.patches, rho, M, E_direct, E_point, sol.radiosity, sol.irradiance, leak,
                  sol.stats);
   sol.stats.rays = vis.rays_traced();
+  drop_patches(sol, enclosed);
+  sol.stats.enclosed_patches = enclosed.size();
   sol.stats.time_total_s = seconds_since(t_start);
   report(1.0);
   return sol;

@@ -585,6 +585,21 @@ TEST(ImprintContacts, FloorIsCutAlongTheFootprintOfABoxStandingOnIt) {
   EXPECT_NEAR(inside_area, (x1 - x0) * (y1 - y0), 1e-12);
 }
 
+TEST(ImprintContacts, FaceToFaceContactIsRemovedFromBothFaces) {
+  // A box's bottom (facing down) lying on a floor (facing up): the floor keeps only what is beside
+  // the footprint, the bottom vanishes, and the removed area is the footprint twice.
+  const TriangleMesh floor = quad_mesh({-1, -1, 0}, {2, 0, 0}, {0, 2, 0});
+  const TriangleMesh bottom = quad_mesh({-0.5, -0.2, 0}, {0, 0.6, 0}, {0.6, 0, 0});  // normal -z
+  const ContactImprint r = imprint_contacts({floor, bottom});
+  EXPECT_TRUE(r.meshes[1].triangles.empty());
+  EXPECT_NEAR(mesh_area(r.meshes[0]), 4.0 - 0.36, 1e-12);
+  EXPECT_NEAR(r.contact_area, 2 * 0.36, 1e-12);
+  for (std::size_t t = 0; t < r.meshes[0].triangles.size(); ++t) {
+    const Point3 g = r.meshes[0].triangle(t).centroid();
+    EXPECT_FALSE(g.x > -0.5 && g.x < 0.1 && g.y > -0.2 && g.y < 0.4) << "piece " << t << " is under the box";
+  }
+}
+
 TEST(ImprintContacts, CoplanarAndDistantSurfacesAndOwnNeighboursDoNotCut) {
   const TriangleMesh floor = quad_mesh({0, 0, 0}, {1, 0, 0}, {0, 1, 0});
   const TriangleMesh rug = quad_mesh({0.2, 0.2, 0}, {0.3, 0, 0}, {0, 0.3, 0});        // coplanar
