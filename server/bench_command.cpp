@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <fstream>
 #include <functional>
+#include <map>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
@@ -59,13 +60,55 @@ struct Case {
   json scene;            // without meshing
   double total_area;
   std::function<double(const Scene&, const Solution&, const Report&)> error;
+  // Scenes whose tessellation is the ladder's subject build their own (with "meshing") per step.
+  std::function<json(double divisions)> make_scene = nullptr;
 };
+
+// Geodesic sphere of radius 1 about the origin, facing inward: each face of an icosahedron split
+// into n² triangles on a barycentric grid, the points pushed onto the sphere; 20 n² triangles.
+// Shared points are welded by their coordinates rounded to 1e-12.
+json inward_geodesic_sphere(int n) {
+  const double g = (1 + std::sqrt(5.0)) / 2;
+  const std::array<std::array<double, 3>, 12> v = {{{-1, g, 0}, {1, g, 0}, {-1, -g, 0}, {1, -g, 0},
+                                                   {0, -1, g}, {0, 1, g}, {0, -1, -g}, {0, 1, -g},
+                                                   {g, 0, -1}, {g, 0, 1}, {-g, 0, -1}, {-g, 0, 1}}};
+  const int faces[20][3] = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
+                            {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
+                            {3, 8, 9},  {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
+  json vertices = json::array(), triangles = json::array();
+  std::map<std::array<long long, 3>, int> index;
+  auto point = [&](const std::array<double, 3>& a, const std::array<double, 3>& b, const std::array<double, 3>& c,
+                   int i, int j) {
+    const double u = double(i) / n, w = double(j) / n, t = 1 - u - w;
+    std::array<double, 3> p{};
+    for (int k = 0; k < 3; ++k) p[k] = t * a[k] + u * b[k] + w * c[k];
+    const double r = std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+    for (double& x : p) x /= r;
+    const std::array<long long, 3> key{std::llround(p[0] * 1e12), std::llround(p[1] * 1e12), std::llround(p[2] * 1e12)};
+    const auto [it, added] = index.try_emplace(key, static_cast<int>(vertices.size()));
+    if (added) vertices.push_back(p);
+    return it->second;
+  };
+  for (const auto& f : faces) {
+    const auto &a = v[f[0]], &b = v[f[1]], &c = v[f[2]];
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; i + j < n; ++j) {
+        // The icosahedron's faces are counter-clockwise seen from outside; listed reversed, inward.
+        triangles.push_back({point(a, b, c, i, j), point(a, b, c, i, j + 1), point(a, b, c, i + 1, j)});
+        if (i + j + 1 < n)
+          triangles.push_back({point(a, b, c, i + 1, j), point(a, b, c, i, j + 1), point(a, b, c, i + 1, j + 1)});
+      }
+  }
+  return {{"vertices", vertices}, {"triangles", triangles}};
+}
 
 double surface_mean_irradiance(const Report& r, const std::string& name) {
   for (const auto& s : r.surfaces)
     if (s.name == name) return s.irradiance_mean.at(0);
   throw std::runtime_error("no surface " + name);
 }
+
+double peak_rss_mb();
 
 std::vector<Case> cases() {
   std::vector<Case> out;
@@ -142,6 +185,43 @@ std::vector<Case> cases() {
                      return std::abs(sol.probes[0].irradiance[0] / (kPi * visible) - 1);
                    }});
   }
+  {
+    // REFERENCES "the sphere interior": inside a sphere F_ij = A_j / A for any two patches, so with
+    // ρ = 0.5 everywhere and a cap (z > 0.5) emitting M = 1, H = Φ / (A (1 − ρ)) on every patch, Φ
+    // the cap's flux. The geodesic sphere's facets only approximate that, so the error measures
+    // the tessellation: each ladder step tessellates the sphere more finely.
+    auto make = [](double divisions) {
+      const int n = std::max(2, static_cast<int>(std::lround(std::sqrt(divisions / 20))));
+      const json mesh = inward_geodesic_sphere(n);
+      json cap = {{"vertices", mesh["vertices"]}, {"triangles", json::array()}};
+      json rest = cap;
+      for (const auto& t : mesh["triangles"]) {
+        double z = 0;
+        for (int k = 0; k < 3; ++k) z += mesh["vertices"][t[k].get<int>()][2].get<double>() / 3;
+        (z > 0.5 ? cap : rest)["triangles"].push_back(t);
+      }
+      json s = {{"name", "sphere-interior"},
+                {"spectrum", {{"mode", "spectral"}, {"wavelengths_nm", {555}}}},
+                {"materials", {{"grey", {{"reflectance", 0.5}}}}},
+                {"meshing", {{"max_patch_area", 100.0}}}};  // the facets are the patches
+      s["surfaces"] = {{{"name", "cap"}, {"material", "grey"}, {"mesh", cap}, {"emission", {{"exitance", 1.0}}}},
+                       {{"name", "rest"}, {"material", "grey"}, {"mesh", rest}}};
+      return s;
+    };
+    out.push_back({"sphere-interior", "max patch |H / H_sphere - 1|", json(), 0,
+                   [](const Scene&, const Solution& sol, const Report&) {
+                     double area = 0, flux = 0;
+                     for (std::size_t i = 0; i < sol.patches.size(); ++i) {
+                       area += sol.patches[i].area_m2;
+                       flux += sol.patches[i].surface == 0 ? sol.patches[i].area_m2 : 0;
+                     }
+                     const double exact = flux / (area * (1 - 0.5));
+                     double worst = 0;
+                     for (double h : sol.irradiance) worst = std::max(worst, std::abs(h / exact - 1));
+                     return worst;
+                   },
+                   make});
+  }
   return out;
 }
 
@@ -149,8 +229,6 @@ std::vector<Case> cases() {
 // desk-sized boxes floating 1 cm above the floor (the gap keeps contact out of this measurement),
 // every surface ρ = 0.5 and M = 1, so that B = M/(1 − ρ) = 2 exactly everywhere (a furnace); solved
 // by the hierarchical method at a ladder of patch counts.
-double peak_rss_mb();
-
 struct ScalingScene {
   json scene;
   double total_area = 0;
@@ -255,8 +333,8 @@ int run_bench(const std::vector<std::string>& args) {
   for (const Case& c : cases()) {
     series.push_back({c.name, {}});
     for (double divisions : ladder) {
-      json scene = c.scene;
-      scene["meshing"] = {{"max_patch_area", c.total_area / divisions}};
+      json scene = c.make_scene ? c.make_scene(divisions) : c.scene;
+      if (!c.make_scene) scene["meshing"] = {{"max_patch_area", c.total_area / divisions}};
       const DecodeResult decoded = decode_scene(scene.dump(), FileAccess{FileAccess::Policy::Deny, {}, {}});
       if (!decoded.ok()) {
         std::cerr << c.name << ": " << format_errors(decoded.errors);
@@ -273,7 +351,7 @@ int run_bench(const std::vector<std::string>& args) {
                   sol.stats.patches, seconds, static_cast<unsigned long long>(sol.stats.rays), mrays, peak_rss_mb(),
                   sol.stats.spectral_systems_solved, error);
       std::fflush(stdout);
-      rows.push_back({{"scene", c.name}, {"error_measure", c.what}, {"max_patch_area_m2", c.total_area / divisions},
+      rows.push_back({{"scene", c.name}, {"error_measure", c.what}, {"max_patch_area_m2", sol.stats.max_patch_area_m2},
                       {"patches", sol.stats.patches}, {"time_s", seconds}, {"rays", sol.stats.rays},
                       {"form_factor_and_probe_Mrays_per_s", mrays}, {"peak_rss_mb", peak_rss_mb()},
                       {"error", error}});
