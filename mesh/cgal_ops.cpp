@@ -4,6 +4,7 @@
 // All decisions (collinearity, simplicity, intersections) use the exact predicates of the Epick
 // kernel on the input coordinates; no constructed (rounded) point is ever tested.
 #include "mesh/mesh_ops.h"
+#include "mesh/polygon_boolean.h"
 
 #include <CGAL/Constrained_Delaunay_triangulation_2.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
@@ -501,6 +502,22 @@ ContactImprint imprint_contacts(const std::vector<TriangleMesh>& meshes, double 
       // under u are contact area, seen by nothing.
       for (int k = 0; k < 3; ++k) cuts[ti].emplace_back(u.v[k], u.v[(k + 1) % 3]);
       facing[ti].push_back(ui);
+    } else if (ti < ui && rt.mesh != ru.mesh && dot(u.normal(), n) > 0 &&
+               std::all_of(u.v.begin(), u.v.end(), [&](const Point3& p) { return std::abs(dot(p - t.v[0], n)) <= eps; })) {
+      // Coplanar and facing the same way: if they overlap, both radiate from the same place.
+      const Vector3 e1 = normalize(t.v[1] - t.v[0]), e2 = cross(n, e1);
+      auto flat = [&](const Triangle& x) {
+        Loop2d loop;
+        for (const Point3& p : x.v) loop.push_back({dot(p - t.v[0], e1), dot(p - t.v[0], e2)});
+        return loop;
+      };
+      double left = 0;
+      for (const Loop2d& loop : convex_difference(flat(t), std::vector<Loop2d>{flat(u)})) {
+        for (std::size_t k = 0; k < loop.size(); ++k)
+          left += 0.5 * (loop[k][0] * loop[(k + 1) % loop.size()][1] - loop[(k + 1) % loop.size()][0] * loop[k][1]);
+      }
+      const double shared = t.area() - left;
+      if (shared > 1e-9 * t.area()) out.overlaps.push_back({rt.mesh, ru.mesh, shared});
     }
   };
   CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), [&](const Box& a, const Box& b) {
@@ -568,6 +585,11 @@ ContactImprint imprint_contacts(const std::vector<TriangleMesh>& meshes, double 
       out.segments += cuts[r].size();
     }
   }
+  // One entry per pair of meshes, their shared areas summed.
+  std::map<std::pair<int, int>, double> pairs;
+  for (const auto& o : out.overlaps) pairs[{std::min(o.mesh_a, o.mesh_b), std::max(o.mesh_a, o.mesh_b)}] += o.area;
+  out.overlaps.clear();
+  for (const auto& [key, area] : pairs) out.overlaps.push_back({key.first, key.second, area});
   return out;
 }
 

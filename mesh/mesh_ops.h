@@ -41,6 +41,8 @@ struct ContactImprint {
   std::size_t triangles_cut = 0;     // input triangles that were cut
   std::size_t segments = 0;          // contact segments imprinted
   double contact_area = 0;           // area removed where two faces lie on each other (m² for metres)
+  struct Overlap { int mesh_a, mesh_b; double area; };
+  std::vector<Overlap> overlaps;     // coplanar faces of two meshes facing the same way, overlapping
 };
 
 // Cuts every triangle along the segments where triangles of other meshes touch or cross its plane
@@ -50,7 +52,8 @@ struct ContactImprint {
 // triangle's own edges do not cut. Coplanar triangles facing the same way do not cut each other;
 // coplanar triangles facing each other (a box's bottom on the floor) are contact: each is cut along
 // the other's edges and the pieces under the other are removed (nothing sees them), their area
-// summed in contact_area. Pieces come from
+// summed in contact_area. Coplanar faces of two meshes that face the same way and overlap (a rug
+// modelled in the floor's plane) are left as they are and listed in `overlaps` with the shared area. Pieces come from
 // a constrained Delaunay triangulation (CGAL, exact predicates) of the triangle and its segments,
 // keep the triangle's orientation and are not conforming with the neighbours (T-junctions are
 // harmless to radiosity patches). `tolerance` is relative to the scene's bounding-box diagonal.

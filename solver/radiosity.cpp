@@ -228,7 +228,20 @@ Solution solve(const Scene& scene, const SolveControl& control) {
   meshes.reserve(scene.surfaces.size());
   for (const Surface& s : scene.surfaces) meshes.push_back(s.mesh);
   ContactImprint imprint = imprint_contacts(meshes);
-  if (imprint.triangles_cut == 0) return solve_method(scene, control);
+  std::vector<std::string> overlap_warnings;
+  for (const auto& o : imprint.overlaps) {
+    char text[64];
+    std::snprintf(text, sizeof text, "%.6g", o.area);
+    overlap_warnings.push_back("surfaces \"" + scene.surfaces[o.mesh_a].name + "\" and \"" +
+                               scene.surfaces[o.mesh_b].name + "\" overlap in one plane over " + text +
+                               " m² (coplanar faces facing the same way): both radiate from the same place, so "
+                               "light there is counted twice; remove one or lift it off the other");
+  }
+  auto finish = [&](Solution sol) {
+    sol.warnings.insert(sol.warnings.end(), overlap_warnings.begin(), overlap_warnings.end());
+    return sol;
+  };
+  if (imprint.triangles_cut == 0) return finish(solve_method(scene, control));
   Scene cut = scene;
   for (std::size_t s = 0; s < cut.surfaces.size(); ++s) cut.surfaces[s].mesh = std::move(imprint.meshes[s]);
   Solution sol = solve_method(cut, control);
@@ -240,7 +253,7 @@ Solution solve(const Scene& scene, const SolveControl& control) {
     sol.warnings.push_back(std::string(text) + " m² of surface lie face to face on other surfaces (e.g. a box's "
                            "bottom on a floor): that contact area is hidden and left out of the patches");
   }
-  return sol;
+  return finish(std::move(sol));
 }
 
 namespace {

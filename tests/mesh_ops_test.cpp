@@ -608,6 +608,11 @@ TEST(ImprintContacts, CoplanarAndDistantSurfacesAndOwnNeighboursDoNotCut) {
   const ContactImprint r = imprint_contacts({floor, rug, shelf, wall});
   EXPECT_EQ(r.triangles_cut, 0u);
   for (std::size_t m = 0; m < 4; ++m) EXPECT_EQ(r.meshes[m].triangles.size(), 2u);
+  // The rug overlaps the floor in its plane: reported once, with the shared area.
+  ASSERT_EQ(r.overlaps.size(), 1u);
+  EXPECT_EQ(r.overlaps[0].mesh_a, 0);
+  EXPECT_EQ(r.overlaps[0].mesh_b, 1);
+  EXPECT_NEAR(r.overlaps[0].area, 0.09, 1e-12);
 }
 
 }  // namespace
