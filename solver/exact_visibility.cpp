@@ -37,9 +37,10 @@ struct HalfSpace {
   double signed_distance(const Point3& x) const { return dot(normal, x - origin) - offset; }
 };
 
-// A small convex polygon in 3D (a triangle clipped by 6 planes has at most 9 vertices).
+// A small convex polygon in 3D: a triangle clipped by k planes has at most 3 + k vertices (k is 6
+// for a projection's region, at most 2·16 − 4 = 28 for a shaft's hull faces).
 struct SmallPolygon {
-  std::array<Point3, 12> v;
+  std::array<Point3, 32> v;
   int count = 0;
 };
 
@@ -49,7 +50,7 @@ SmallPolygon clip(const SmallPolygon& in, const HalfSpace& h) {
     const Point3& a = in.v[i];
     const Point3& b = in.v[(i + 1) % in.count];
     const double da = h.signed_distance(a), db = h.signed_distance(b);
-    if (da >= 0) out.v[out.count++] = a;
+    if (da >= 0 && out.count < static_cast<int>(out.v.size())) out.v[out.count++] = a;
     if ((da >= 0) != (db >= 0) && out.count < static_cast<int>(out.v.size())) {
       const double t = da / (da - db);
       out.v[out.count++] = a + (b - a) * t;
@@ -105,9 +106,11 @@ struct ExactVisibility::Impl {
     return index;
   }
 
+  // Calls visit(triangle) for the triangles in leaves whose boxes meet the region, until it returns
+  // true; returns whether one did.
   template <class Visit>
-  void query(std::span<const HalfSpace> region, Visit&& visit) const {
-    if (nodes.empty()) return;
+  bool query(std::span<const HalfSpace> region, Visit&& visit) const {
+    if (nodes.empty()) return false;
     std::vector<int> stack = {0};
     while (!stack.empty()) {
       const Node& node = nodes[stack.back()];
@@ -116,12 +119,14 @@ struct ExactVisibility::Impl {
       if (std::any_of(region.begin(), region.end(), [&](const HalfSpace& h) { return box_outside(node.box, h); }))
         continue;
       if (node.right < 0) {
-        for (int k = node.first; k < node.first + node.count; ++k) visit(triangles[order[k]]);
+        for (int k = node.first; k < node.first + node.count; ++k)
+          if (visit(triangles[order[k]])) return true;
       } else {
         stack.push_back(node.right);
         stack.push_back(index + 1);
       }
     }
+    return false;
   }
 };
 
@@ -189,7 +194,7 @@ double ExactVisibility::visible_factor(const Point3& p_world, const Vector3& n, 
     std::copy(t.v.begin(), t.v.end(), part.v.begin());
     for (const HalfSpace& r : region) {
       part = clip(part, r);
-      if (part.count < 3) return;
+      if (part.count < 3) return false;
     }
     Loop2d shadow(part.count);
     for (int k = 0; k < part.count; ++k) {
@@ -197,6 +202,7 @@ double ExactVisibility::visible_factor(const Point3& p_world, const Vector3& n, 
       shadow[k] = to_plane(p + (q - p) * (h / (h - dot(ns, q - s0))));
     }
     shadows.push_back(std::move(shadow));
+    return false;
   });
 
   Loop2d source(front.count);
@@ -211,6 +217,52 @@ double ExactVisibility::visible_factor(const Point3& p_world, const Vector3& n, 
     factor += point_boundary_factor(p, n, loop3);
   }
   return std::max(0.0, factor);
+}
+
+bool ExactVisibility::shaft_is_clear(std::span<const Point3> points_world) const {
+  const Vector3 shift = to_vector(impl_->centre);
+  std::array<Point3, 16> p;
+  const int n = static_cast<int>(std::min<std::size_t>(points_world.size(), p.size()));
+  Bounds3 box;
+  for (int i = 0; i < n; ++i) box.add(p[i] = points_world[i] - shift);
+  const double size = length(box.diagonal());
+  if (!(size > 0)) return true;
+  const double margin = 1e-9 * size;
+  // Faces of the hull: planes through three points with every point on one side (brute force; a
+  // shaft has at most 16 points). Normals point inwards; the region is the hull shrunk by `margin`.
+  std::vector<HalfSpace> region;
+  for (int i = 0; i < n; ++i)
+    for (int j = i + 1; j < n; ++j)
+      for (int k = j + 1; k < n; ++k) {
+        Vector3 normal = cross(p[j] - p[i], p[k] - p[i]);
+        const double len = length(normal);
+        if (!(len > 1e-12 * size * size)) continue;
+        normal = normal / len;
+        int above = 0, below = 0;
+        for (int m = 0; m < n; ++m) {
+          const double d = dot(normal, p[m] - p[i]);
+          above += d > margin;
+          below += d < -margin;
+        }
+        if (above > 0 && below > 0) continue;
+        if (above == 0 && below == 0) continue;  // every point in this plane
+        const HalfSpace face{above > 0 ? normal : -normal, p[i], margin};
+        const bool known = std::any_of(region.begin(), region.end(), [&](const HalfSpace& h) {
+          return dot(h.normal, face.normal) > 1 - 1e-12 && std::abs(h.signed_distance(p[i]) + margin) <= margin;
+        });
+        if (!known) region.push_back(face);
+      }
+  if (region.empty()) return true;  // flat: nothing can be inside
+  return !impl_->query(region, [&](const Triangle& t) {
+    SmallPolygon part;
+    part.count = 3;
+    std::copy(t.v.begin(), t.v.end(), part.v.begin());
+    for (const HalfSpace& r : region) {
+      part = clip(part, r);
+      if (part.count < 3) return false;
+    }
+    return true;
+  });
 }
 
 }  // namespace lambert

@@ -34,7 +34,15 @@ class ExactVisibility {
   // source's plane or in p's horizon plane (the surfaces the source and p sit on) do not occlude.
   double visible_factor(const Point3& p, const Vector3& n, const Triangle& source) const;
 
-  // Number of visible_factor calls that needed the Boolean operations (some occluder projected).
+  // Whether no occluder reaches into the interior of the convex hull of `points` (at most 16): for
+  // the vertices of two elements, the shaft that holds every segment between them, so a clear shaft
+  // means the pair sees each other wholly, with no ray traced (Haines & Wallace's shaft culling, with
+  // exact clipping instead of boxes). Occluders that only touch the hull's boundary (the elements' own
+  // surfaces, a wall meeting them at an edge) do not count; a margin of 1e-9 of the hull's size is
+  // allowed for rounding. Conservative: an occluder in the hull that blocks no segment also counts.
+  bool shaft_is_clear(std::span<const Point3> points) const;
+
+  // Number of visible_factor evaluations that needed the Boolean operations (some occluder projected).
   std::uint64_t boolean_evaluations() const { return booleans_.load(std::memory_order_relaxed); }
 
  private:

@@ -27,6 +27,7 @@
 #include "solver/light_model.h"
 #include "solver/linear_solve.h"
 #include "solver/visibility.h"
+#include "solver/exact_visibility.h"
 #include "solver/visible_fraction.h"
 
 namespace lambert {
@@ -255,9 +256,10 @@ int cluster_sample(const Hierarchy& h, const Cluster& C, int k) {
 // The refinement of one (receiver element, source) pair into links, with the BF oracle.
 class Refiner {
  public:
-  Refiner(const Hierarchy& h, const Visibility& vis, const std::vector<double>& element_B,
+  Refiner(const Hierarchy& h, const Visibility& vis, const ExactVisibility& shafts, const std::vector<double>& element_B,
           const std::vector<double>& cluster_B, double epsilon, double unit_area)
-      : h_(h), vis_(vis), element_B_(element_B), cluster_B_(cluster_B), epsilon_(epsilon), unit_area_(unit_area) {}
+      : h_(h), vis_(vis), shafts_(shafts), element_B_(element_B), cluster_B_(cluster_B), epsilon_(epsilon),
+        unit_area_(unit_area) {}
 
   // The oracle bounds irradiance errors at the patch scale and power errors above it: an error of
   // δE over a receiver of area A counts δE × max(1, A / unit_area). Coarse receivers (many patches)
@@ -270,8 +272,6 @@ class Refiner {
     const Element& S = h_.elements[s];
     if (r == s || !any_in_front(R.tri, R.normal, S.tri) || !any_in_front(S.tri, S.normal, R.tri)) return;
     const double B = element_B_[s];
-    // The point kernel at the receiver's degree-5 nodes: its spread is the error of giving every part
-    // of the receiver the same factor (push-down), its mean the factor of a far pair.
     // The point kernel at the receiver's degree-5 nodes and next to its corners (it peaks at edges
     // shared with the source), fitted by a linear function over the receiver (least squares in
     // barycentric coordinates). The link carries that linear factor, so that push-down hands each
@@ -308,14 +308,26 @@ class Refiner {
     if (F <= 0) return;
     const double shift = F - (a[0] + a[1] + a[2]) / 3;  // the linear factor's mean is F exactly
     for (double& value : a) value += shift;
-    const double v = weighted_visible_fraction(
-        vis_,
-        [&](int k) {
-          return std::pair{vis_.lift(visibility_sample(R.tri, k), R.normal),
-                           vis_.lift(visibility_sample(S.tri, (37 * k + 11) % kMaxVisibilitySamples), S.normal)};
-        },
-        [&](const Point3& p, const Point3& q) { return link_weight(p, R.normal, q, S.normal); });
-    const double partial = v > 0 && v < 1 ? 0.5 * F : 0;
+    // Visibility: a clear shaft (no occluder inside the hull of the two elements) means wholly
+    // visible, exactly and without rays. Otherwise rays, 16 before the first vote: four unanimous
+    // rays between large elements miss small occluders, and a missed occluder is counted twice
+    // (through the link and through the occluder's own links), which biased row sums by tens of %.
+    const std::array<Point3, 6> hull = {R.tri.v[0], R.tri.v[1], R.tri.v[2], S.tri.v[0], S.tri.v[1], S.tri.v[2]};
+    const bool clear = shafts_.shaft_is_clear(hull);
+    const double v =
+        clear
+            ? 1.0
+            : weighted_visible_fraction(
+                  vis_,
+                  [&](int k) {
+                    return std::pair{vis_.lift(visibility_sample(R.tri, k), R.normal),
+                                     vis_.lift(visibility_sample(S.tri, paired_sample(k)), S.normal)};
+                  },
+                  [&](const Point3& p, const Point3& q) { return link_weight(p, R.normal, q, S.normal); }, 16);
+    // An occluder in the shaft makes the link uncertain even when the rays agree: unanimous rays
+    // between coarse elements can miss a partly hidden part (and drop a link that is half visible)
+    // or a small occluder. Half the factor bounds the error either way.
+    const double partial = clear ? 0 : 0.5 * F;
     if (splittable && B * partial * weight > epsilon_) return split(r, s, out);
     if (v <= 0) return;
     Link link;
@@ -416,11 +428,12 @@ class Refiner {
           return std::pair{vis_.lift(visibility_sample(R.tri, k), R.normal),
                            vis_.lift(visibility_sample(S.tri, k), S.normal)};
         },
-        [&](const Point3& p, const Point3& q) { return link_weight(p, R.normal, q, source_normal); });
+        [&](const Point3& p, const Point3& q) { return link_weight(p, R.normal, q, source_normal); }, 16);
   }
 
   const Hierarchy& h_;
   const Visibility& vis_;
+  const ExactVisibility& shafts_;
   const std::vector<double>& element_B_;
   const std::vector<double>& cluster_B_;
   double epsilon_;
@@ -579,6 +592,7 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
   // ---- visibility scene (the roots: the same surfaces, fewer triangles than the leaves) ----
   t0 = Clock::now();
   const Visibility vis(occluders);
+  const ExactVisibility shafts(occluders);
   std::vector<Vector3> occluder_normals(occluders.size());
   for (std::size_t k = 0; k < occluders.size(); ++k) occluder_normals[k] = h.elements[h.roots[k]].normal;
   sol.stats.time_visibility_s = seconds_since(t0);
@@ -719,7 +733,7 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
       std::vector<double> element_B, cluster_B;
       oracle_values(leaf_B, element_B, cluster_B);
       const double epsilon = accuracy * power / total_area / kPowerShare;
-      const Refiner refiner(h, vis, element_B, cluster_B, epsilon, kUnitPatches * max_area);
+      const Refiner refiner(h, vis, shafts, element_B, cluster_B, epsilon, kUnitPatches * max_area);
       tbb::enumerable_thread_specific<std::vector<Link>> found;
       bool changed = round == 0;
       if (round == 0) {

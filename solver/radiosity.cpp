@@ -51,9 +51,8 @@ double patch_visible_fraction(const Patch& a, const Patch& b, const Visibility& 
   return weighted_visible_fraction(
       vis,
       [&](int k) {
-        // A fixed odd-multiplier permutation pairs samples that are not in corresponding cells.
         return std::pair{vis.lift(visibility_sample(a.triangle, k), a.normal),
-                         vis.lift(visibility_sample(b.triangle, (37 * k + 11) % kMaxVisibilitySamples), b.normal)};
+                         vis.lift(visibility_sample(b.triangle, paired_sample(k)), b.normal)};
       },
       [&](const Point3& p, const Point3& q) { return link_weight(p, a.normal, q, b.normal); });
 }

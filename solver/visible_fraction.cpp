@@ -15,7 +15,11 @@ const std::array<std::array<double, 3>, kMaxVisibilitySamples>& triangle_visibil
         const auto level3 = split4(level2[b]);
         for (int c = 0; c < 4; ++c) {
           const Point3 centroid = level3[c].centroid();  // barycentric coordinates of `unit`
-          out[c * 16 + b * 4 + a] = {centroid.x, centroid.y, centroid.z};
+          // Sample k = c'·16 + b'·4 + a with b = (b' + a) mod 4, c = (c' + b) mod 4: the first four
+          // are the cells (a, a, a), i.e. the three corner cells and the centre cell, so a shadow
+          // edge that crosses the triangle separates the first round's samples.
+          const int b_rank = (b - a + 4) % 4, c_rank = (c - b + 4) % 4;
+          out[c_rank * 16 + b_rank * 4 + a] = {centroid.x, centroid.y, centroid.z};
         }
       }
     }

@@ -7,11 +7,13 @@
 #include <gtest/gtest.h>
 
 #include <random>
+#include <set>
 
 #include "mesh/polygon_boolean.h"
 #include "solver/form_factor.h"
 #include "solver/spectrum.h"
 #include "solver/visibility.h"
+#include "solver/visible_fraction.h"
 #include "tests/test_geometry.h"
 
 namespace lambert {
@@ -190,6 +192,66 @@ TEST(ExactVisibility, AgreesWithDenseRaysOnRandomTiltedOccluders) {
   EXPECT_GE(partly_hidden, 6);  // the comparison is about shadows, not about the unoccluded kernel
   std::printf("partly hidden %d of 12, worst |exact - rays| / F = %.2e\n", partly_hidden, worst);
   RecordProperty("worst_relative_difference", std::to_string(worst));
+}
+
+TEST(ShaftCulling, ClearOnlyWhenNothingIsBetween) {
+  // Two opposed unit squares 1 m apart (each two triangles); the shaft of a pair of their triangles.
+  const auto top = rect_at(0, 1, 0, 1, 1, true), bottom = rect_at(0, 1, 0, 1, 0, false);
+  const std::array<Point3, 6> hull = {bottom[0].v[0], bottom[0].v[1], bottom[0].v[2], top[0].v[0], top[0].v[1], top[0].v[2]};
+  EXPECT_TRUE(ExactVisibility(concat(top, bottom)).shaft_is_clear(hull));
+  // A small blocker in the middle, one beside the shaft, one beyond the top plate.
+  EXPECT_FALSE(ExactVisibility(concat(concat(top, bottom), rect_at(0.45, 0.55, 0.3, 0.4, 0.5, false))).shaft_is_clear(hull));
+  EXPECT_TRUE(ExactVisibility(concat(concat(top, bottom), rect_at(1.5, 2, 0, 1, 0.5, false))).shaft_is_clear(hull));
+  EXPECT_TRUE(ExactVisibility(concat(concat(top, bottom), rect_at(0, 1, 0, 1, 1.5, false))).shaft_is_clear(hull));
+  // Perpendicular plates sharing an edge: their own surfaces touch the shaft's boundary only.
+  const auto wall = rectangle({0, 0, 0}, {0, 0, 1}, {1, 0, 0});
+  const std::array<Point3, 6> corner = {bottom[0].v[0], bottom[0].v[1], bottom[0].v[2], wall[0].v[0], wall[0].v[1], wall[0].v[2]};
+  EXPECT_TRUE(ExactVisibility(concat(bottom, wall)).shaft_is_clear(corner));
+}
+
+TEST(ShaftCulling, AClearShaftMeansEveryRayPasses) {
+  // Second method: random triangle pairs among random occluders; whenever the shaft is clear, all 64
+  // sample-to-sample rays must be unobstructed (the converse need not hold: the test is conservative).
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1, 1);
+  int clear = 0, blocked = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    auto random_triangle = [&](const Point3& c, double r) {
+      return Triangle{{c + Vector3{r * u(rng), r * u(rng), r * u(rng)}, c + Vector3{r * u(rng), r * u(rng), r * u(rng)},
+                       c + Vector3{r * u(rng), r * u(rng), r * u(rng)}}};
+    };
+    const Triangle a = random_triangle({0, 0, 0}, 0.5), b = random_triangle({0, 0, 2}, 0.5);
+    std::vector<Triangle> scene = {a, b};
+    for (int k = 0; k < 3; ++k) scene.push_back(random_triangle({u(rng), u(rng), 1 + u(rng)}, 0.3));
+    const ExactVisibility ev(scene);
+    const Visibility vis(scene);
+    const std::array<Point3, 6> hull = {a.v[0], a.v[1], a.v[2], b.v[0], b.v[1], b.v[2]};
+    if (!ev.shaft_is_clear(hull)) {
+      ++blocked;
+      continue;
+    }
+    ++clear;
+    for (int k = 0; k < kMaxVisibilitySamples; ++k)
+      EXPECT_TRUE(vis.visible(visibility_sample(a, k), visibility_sample(b, paired_sample(k)))) << "trial " << trial;
+  }
+  EXPECT_GT(clear, 20);
+  EXPECT_GT(blocked, 20);
+}
+
+TEST(VisibilitySamples, FirstRoundIsTheCornersAndTheCentreAndRoundsAreStratified) {
+  const auto& w = triangle_visibility_samples();
+  for (int c = 0; c < 3; ++c) EXPECT_GT(w[c][c], 0.9) << "sample " << c << " is not in corner " << c;
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(w[3][c], 1.0 / 3, 0.05);
+  // The first 16 lie one per level-2 cell: distinct cells of the 4 × 4 split (a point of the unit
+  // triangle's level-2 cell has barycentric coordinates on a 1/4 grid: floor(4 w) identifies it up
+  // to the inverted cells, so count distinct rounded quadruples instead).
+  std::set<std::array<int, 3>> cells;
+  for (int k = 0; k < 16; ++k) cells.insert({int(w[k][0] * 4), int(w[k][1] * 4), int(w[k][2] * 4)});
+  EXPECT_EQ(cells.size(), 16u);
+  std::set<int> paired;
+  for (int k = 0; k < kMaxVisibilitySamples; ++k) paired.insert(paired_sample(k));
+  EXPECT_EQ(paired.size(), static_cast<std::size_t>(kMaxVisibilitySamples));  // a permutation
+  for (int k = 0; k < 4; ++k) EXPECT_LT(paired_sample(k), 4);                   // corners with corners
 }
 
 }  // namespace

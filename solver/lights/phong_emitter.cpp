@@ -105,7 +105,7 @@ class PhongEmitterModel final : public LightModel {
                          vis,
                          [&](int k) {
                            return std::pair{visibility_sample(emitter_, k),
-                                            visibility_sample(t, (37 * k + 11) % kMaxVisibilitySamples)};
+                                            visibility_sample(t, paired_sample(k))};
                          },
                          [&](const Point3& q, const Point3& p) { return kernel(q, p, nt); });
   }
