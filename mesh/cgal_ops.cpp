@@ -553,6 +553,15 @@ ContactImprint imprint_contacts(const std::vector<TriangleMesh>& meshes, double 
       for (int k = 0; k < 3; ++k)
         inside &= CGAL::orientation(corners[k]->point(), corners[(k + 1) % 3]->point(), centroid) != CGAL::RIGHT_TURN;
       if (!inside) continue;
+      // Crossings of nearly collinear constraints are constructed in double precision and can leave
+      // slivers narrower than the tolerance (2·10⁻¹⁶ m² at a desk's corner): rounding, not geometry,
+      // and their factors would be noise. Such pieces are dropped (their area is below eps × edge).
+      {
+        const P2 &a = f->vertex(0)->point(), &b = f->vertex(1)->point(), &c = f->vertex(2)->point();
+        const double longest = std::sqrt(std::max({CGAL::squared_distance(a, b), CGAL::squared_distance(b, c),
+                                                   CGAL::squared_distance(c, a)}));
+        if (2 * std::abs(CGAL::area(a, b, c)) <= 4 * eps * longest) continue;
+      }
       const bool contact = std::any_of(facing[r].begin(), facing[r].end(), [&](int ui) {
         const Triangle u = meshes[refs[ui].mesh].triangle(refs[ui].triangle);
         const P2 a = to_2d(u.v[0]), b = to_2d(u.v[1]), c = to_2d(u.v[2]);  // clockwise in t's frame

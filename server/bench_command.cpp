@@ -226,9 +226,9 @@ std::vector<Case> cases() {
 }
 
 // The scaling scene: a 20 × 10 × 3 m open-plan office (walls facing in) with a 10 × 5 grid of
-// desk-sized boxes floating 1 cm above the floor (the gap keeps contact out of this measurement),
-// every surface ρ = 0.5 and M = 1, so that B = M/(1 − ρ) = 2 exactly everywhere (a furnace); solved
-// by the hierarchical method at a ladder of patch counts.
+// desk-sized closed boxes standing on the floor (their bottoms and the floor under them are contact
+// area, removed before meshing), every surface ρ = 0.5 and M = 1, so that B = M/(1 − ρ) = 2 exactly
+// on every patch (a furnace); solved by the hierarchical method at a ladder of patch counts.
 struct ScalingScene {
   json scene;
   double total_area = 0;
@@ -248,9 +248,9 @@ ScalingScene office_furnace() {
       const double x = 1 + 1.9 * i, y = 0.8 + 1.8 * j;
       surfaces.push_back({{"name", "desk-" + std::to_string(i) + "-" + std::to_string(j)},
                           {"material", "grey"},
-                          {"mesh", box({x, y, 0.01}, {x + 1.6, y + 0.8, 0.75}, false)},
+                          {"mesh", box({x, y, 0}, {x + 1.6, y + 0.8, 0.75}, false)},
                           {"emission", {{"exitance", 1.0}}}});
-      out.total_area += 2 * (1.6 * 0.8 + 1.6 * 0.74 + 0.8 * 0.74);
+      out.total_area += 1.6 * 0.8 + 2 * (1.6 * 0.75 + 0.8 * 0.75) - 1.6 * 0.8;  // top and sides; floor under it
     }
   out.scene["surfaces"] = surfaces;
   return out;
