@@ -59,6 +59,18 @@ SmallPolygon clip(const SmallPolygon& in, const HalfSpace& h) {
   return out;
 }
 
+// The part of a triangle inside every half-space of a region (fewer than 3 vertices: none).
+SmallPolygon clip_to_region(const Triangle& t, std::span<const HalfSpace> region) {
+  SmallPolygon part;
+  part.count = 3;
+  std::copy(t.v.begin(), t.v.end(), part.v.begin());
+  for (const HalfSpace& r : region) {
+    part = clip(part, r);
+    if (part.count < 3) break;
+  }
+  return part;
+}
+
 // Whether a box lies wholly outside the half-space (its farthest corner along the normal is outside).
 bool box_outside(const Bounds3& box, const HalfSpace& h) {
   const Point3 far{h.normal.x >= 0 ? box.hi.x : box.lo.x, h.normal.y >= 0 ? box.hi.y : box.lo.y,
@@ -189,13 +201,8 @@ double ExactVisibility::visible_factor(const Point3& p_world, const Vector3& n, 
   auto to_plane = [&](const Point3& y) { return Point2d{dot(y - s0, e1), dot(y - s0, e2)}; };
   std::vector<Loop2d> shadows;
   impl_->query(region, [&](const Triangle& t) {
-    SmallPolygon part;
-    part.count = 3;
-    std::copy(t.v.begin(), t.v.end(), part.v.begin());
-    for (const HalfSpace& r : region) {
-      part = clip(part, r);
-      if (part.count < 3) return false;
-    }
+    const SmallPolygon part = clip_to_region(t, region);
+    if (part.count < 3) return false;
     Loop2d shadow(part.count);
     for (int k = 0; k < part.count; ++k) {
       const Point3& q = part.v[k];
@@ -253,16 +260,7 @@ bool ExactVisibility::shaft_is_clear(std::span<const Point3> points_world) const
         if (!known) region.push_back(face);
       }
   if (region.empty()) return true;  // flat: nothing can be inside
-  return !impl_->query(region, [&](const Triangle& t) {
-    SmallPolygon part;
-    part.count = 3;
-    std::copy(t.v.begin(), t.v.end(), part.v.begin());
-    for (const HalfSpace& r : region) {
-      part = clip(part, r);
-      if (part.count < 3) return false;
-    }
-    return true;
-  });
+  return !impl_->query(region, [&](const Triangle& t) { return clip_to_region(t, region).count >= 3; });
 }
 
 }  // namespace lambert

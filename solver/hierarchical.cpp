@@ -496,30 +496,10 @@ Element make_element(const Triangle& t, int surface, int parent, int root) {
   return e;
 }
 
-// Probes leaf i's hemisphere with cosine-distributed rays (a shifted Fibonacci lattice, as the dense
-// solver does): 1 closed (every ray hits the front of an element), 2 a ray hits a back face, 0 one
-// escapes.
+// The hemisphere probe of leaf i (visible_fraction.h, probe_hemisphere), as the dense solver does.
 char hemisphere_is_closed(const Element& e, std::size_t i, int rays, const Visibility& vis,
                           const std::vector<Vector3>& occluder_normals) {
-  const Vector3 n = e.normal;
-  const Vector3 t = normalize(std::abs(n.x) < 0.9 ? cross(n, Vector3{1, 0, 0}) : cross(n, Vector3{0, 1, 0}));
-  const Vector3 s = cross(n, t);
-  const double reach = vis.scene_extent();
-  constexpr double kGolden = 0.6180339887498949;
-  const double shift1 = std::fmod((i + 1) * 0.7548776662466927, 1.0);
-  const double shift2 = std::fmod((i + 1) * 0.5698402909980532, 1.0);
-  char result = 1;
-  for (int k = 0; k < rays; ++k) {
-    const double u1 = std::fmod((k + 0.5) / rays + shift1, 1.0);
-    const double u2 = std::fmod(k * kGolden + shift2, 1.0);
-    const double r = std::sqrt(u1), phi = 2 * kPi * u2;
-    const Vector3 d = t * (r * std::cos(phi)) + s * (r * std::sin(phi)) + n * std::sqrt(1 - u1);
-    const Point3 from = vis.lift(visibility_sample(e.tri, k % kMaxVisibilitySamples), n);
-    const int hit = vis.first_hit(from, from + d * reach);
-    if (hit < 0) return 0;
-    if (dot(occluder_normals[hit], d) >= 0) result = 2;
-  }
-  return result;
+  return probe_hemisphere(e.tri, e.normal, i, rays, vis, [&](int hit) { return occluder_normals[hit]; });
 }
 
 void check_cancel(const SolveControl& control) {
@@ -800,20 +780,7 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
       solve_radiosity_systems(N, gather_all, systems, scene.solver.tolerance, scene.solver.max_iterations, cancelled);
       time_solve += seconds_since(t1);
     }
-    std::size_t leaking = 0;
-    std::set<std::string> names;
-    for (std::size_t i = 0; i < N; ++i)
-      if (closed[i] == 2) {
-        ++leaking;
-        names.insert(scene.surfaces[sol.patches[i].surface].name);
-      }
-    if (leaking > 0) {
-      std::string list;
-      for (const auto& name : names) list += (list.empty() ? "" : ", ") + name;
-      sol.warnings.push_back(std::to_string(leaking) + " patches (of " + list +
-                             ") see the back of a surface: an enclosure is open underneath or a "
-                             "surface faces the wrong way; light reaching a back side is lost");
-    }
+    report_hemisphere_findings(sol, scene, closed);
     // Reciprocity over element links whose reverse link exists at the same pair of elements.
     std::unordered_map<std::uint64_t, double> G;
     for (const Link& l : h.links)
@@ -999,6 +966,7 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
   account_energy(scene.grid, sources, sol.patches, rho, M, E_direct, E_point, sol.radiosity, sol.irradiance, leak,
                  sol.stats);
   sol.stats.rays = vis.rays_traced();
+  leave_out_enclosed(sol, closed);
   sol.stats.time_total_s = seconds_since(t_start);
   report(1.0);
   return sol;

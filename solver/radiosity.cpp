@@ -79,36 +79,12 @@ double visible_point_triangle_factor(const Point3& p, const Vector3& n, const Pa
   return exact.visible_factor(p, n, t);
 }
 
-// Probes patch i's hemisphere with kHemisphereRays cosine-distributed rays: a rank-1 lattice
-// (Fibonacci) in [0,1)², shifted per patch (Cranley–Patterson) so that no direction is missed
-// systematically, from the patch's stratified sample points. Returns 1 if every ray hits the front of
-// another patch (closed), 2 if one hits the back of a surface (an open enclosure underneath or a
-// surface facing the wrong way), 3 if every ray does (the patch lies inside a closed solid, e.g. a
-// floor under a box standing on it), 0 if one escapes the scene (open). An opening that subtends a
-// fraction p of the projected hemisphere goes unseen with probability (1 − p)^1024: 3e-5 for p = 1 %.
+// The hemisphere probe of patch i (visible_fraction.h, probe_hemisphere): 1024 rays, so an opening
+// of 1 % of the projected hemisphere goes unseen with probability 3e-5.
 constexpr int kHemisphereRays = 1024;
 char hemisphere_is_closed(const std::vector<Patch>& patches, std::size_t i, const Visibility& vis) {
-  const Patch& p = patches[i];
-  const Vector3 n = p.normal;
-  const Vector3 t = normalize(std::abs(n.x) < 0.9 ? cross(n, Vector3{1, 0, 0}) : cross(n, Vector3{0, 1, 0}));
-  const Vector3 s = cross(n, t);
-  const double reach = vis.scene_extent();
-  constexpr double kGolden = 0.6180339887498949;  // (√5 − 1)/2
-  // A deterministic per-patch shift (hash of the index) decorrelates neighbouring patches.
-  const double shift1 = std::fmod((i + 1) * 0.7548776662466927, 1.0);
-  const double shift2 = std::fmod((i + 1) * 0.5698402909980532, 1.0);
-  int back = 0;
-  for (int k = 0; k < kHemisphereRays; ++k) {
-    const double u1 = std::fmod((k + 0.5) / kHemisphereRays + shift1, 1.0);
-    const double u2 = std::fmod(k * kGolden + shift2, 1.0);
-    const double r = std::sqrt(u1), phi = 2 * kPi * u2;  // cosine-weighted (Malley)
-    const Vector3 d = t * (r * std::cos(phi)) + s * (r * std::sin(phi)) + n * std::sqrt(1 - u1);
-    const Point3 from = vis.lift(visibility_sample(p.triangle, k % kMaxVisibilitySamples), n);
-    const int hit = vis.first_hit(from, from + d * reach);
-    if (hit < 0) return 0;
-    back += dot(patches[hit].normal, d) >= 0;
-  }
-  return back == 0 ? 1 : (back == kHemisphereRays ? 3 : 2);
+  return probe_hemisphere(patches[i].triangle, patches[i].normal, i, kHemisphereRays, vis,
+                          [&](int hit) { return patches[hit].normal; });
 }
 
 }  // namespace
@@ -116,32 +92,6 @@ char hemisphere_is_closed(const std::vector<Patch>& patches, std::size_t i, cons
 namespace {
 
 constexpr int kAdaptiveRounds = 2;
-
-// Removes patches (sorted indices) and their rows from a solution's per-patch outputs.
-void drop_patches(Solution& sol, const std::vector<std::size_t>& drop) {
-  if (drop.empty()) return;
-  const std::size_t W = sol.wavelengths(), N = sol.patches.size();
-  std::vector<char> gone(N, 0);
-  for (std::size_t i : drop) gone[i] = 1;
-  auto compact = [&](std::vector<double>& per_patch) {
-    if (per_patch.size() != N * W) return;
-    std::size_t kept = 0;
-    for (std::size_t i = 0; i < N; ++i)
-      if (!gone[i]) std::copy_n(&per_patch[i * W], W, &per_patch[kept++ * W]);
-    per_patch.resize(kept * W);
-  };
-  compact(sol.radiosity);
-  compact(sol.irradiance);
-  for (SourceContribution& c : sol.contributions) {
-    compact(c.radiosity);
-    compact(c.irradiance);
-  }
-  std::size_t kept = 0;
-  for (std::size_t i = 0; i < N; ++i)
-    if (!gone[i]) sol.patches[kept++] = sol.patches[i];
-  sol.patches.resize(kept);
-  sol.stats.patches = kept;
-}
 
 // Adaptive meshing (meshing.adaptive): a patch is split 1:4 where its irradiance differs from a
 // neighbour's (same surface, sharing a vertex) by more than 20 % of the pair's mean and by more than
@@ -202,6 +152,66 @@ double default_max_patch_area(const Scene& scene) {
 }
 
 Solution solve_dense(const Scene& scene, const SolveControl& control, const std::vector<Patch>* premeshed);
+
+void report_hemisphere_findings(Solution& sol, const Scene& scene, const std::vector<char>& hemisphere) {
+  auto tally = [&](char kind, double& area) {
+    std::set<std::string> names;
+    std::size_t count = 0;
+    for (std::size_t i = 0; i < sol.patches.size() && i < hemisphere.size(); ++i)
+      if (hemisphere[i] == kind) {
+        ++count;
+        area += sol.patches[i].area_m2;
+        names.insert(scene.surfaces[sol.patches[i].surface].name);
+      }
+    std::string list;
+    for (const auto& name : names) list += (list.empty() ? "" : ", ") + name;
+    return std::pair{count, list};
+  };
+  double leak_area = 0, enclosed_area = 0;
+  const auto [leaking, leak_surfaces] = tally(2, leak_area);
+  if (leaking > 0)
+    sol.warnings.push_back(std::to_string(leaking) + " patches (of " + leak_surfaces +
+                           ") see the back of a surface: an enclosure is open underneath or a "
+                           "surface faces the wrong way; light reaching a back side is lost");
+  const auto [enclosed, enclosed_surfaces] = tally(3, enclosed_area);
+  if (enclosed > 0) {
+    char text[64];
+    std::snprintf(text, sizeof text, "%.6g", enclosed_area);
+    sol.warnings.push_back(std::to_string(enclosed) + " patches (" + text + " m² of " + enclosed_surfaces +
+                           ") lie inside closed solids (e.g. under a box standing on a floor): they see only "
+                           "back faces, exchange no light with the scene and are left out of the result");
+  }
+}
+
+void leave_out_enclosed(Solution& sol, const std::vector<char>& hemisphere) {
+  const std::size_t W = sol.wavelengths(), N = sol.patches.size();
+  std::vector<char> gone(N, 0);
+  std::size_t dropped = 0;
+  for (std::size_t i = 0; i < N && i < hemisphere.size(); ++i) {
+    gone[i] = hemisphere[i] == 3;
+    dropped += gone[i];
+  }
+  sol.stats.enclosed_patches = dropped;
+  if (dropped == 0) return;
+  auto compact = [&](std::vector<double>& per_patch) {
+    if (per_patch.size() != N * W) return;
+    std::size_t kept = 0;
+    for (std::size_t i = 0; i < N; ++i)
+      if (!gone[i]) std::copy_n(&per_patch[i * W], W, &per_patch[kept++ * W]);
+    per_patch.resize(kept * W);
+  };
+  compact(sol.radiosity);
+  compact(sol.irradiance);
+  for (SourceContribution& c : sol.contributions) {
+    compact(c.radiosity);
+    compact(c.irradiance);
+  }
+  std::size_t kept = 0;
+  for (std::size_t i = 0; i < N; ++i)
+    if (!gone[i]) sol.patches[kept++] = sol.patches[i];
+  sol.patches.resize(kept);
+  sol.stats.patches = kept;
+}
 
 void check_patch_count(double patches, bool estimate, std::size_t solver_limit, const SolveControl& control) {
   const std::size_t limit = control.max_patches > 0 ? std::min(control.max_patches, solver_limit) : solver_limit;
@@ -448,7 +458,7 @@ Solution solve_dense(const Scene& scene, const SolveControl& control, const std:
   const bool need_factors = any_emitter || (any_reflector && !sources.empty());
   std::vector<double> F;  // row-major N×N, F_ij = G_ij / A_i
   std::vector<double> row_sum(N, 0.0);
-  std::vector<std::size_t> enclosed;  // patches inside closed solids (hemisphere probe: back faces only)
+  std::vector<char> closed(N, 0);  // hemisphere probe per patch (visible_fraction.h, probe_hemisphere)
   std::atomic<std::size_t> rows_done{0}, links{0};
   std::atomic<bool> cancelled{false};
   if (need_factors) {
@@ -488,7 +498,6 @@ Solution solve_dense(const Scene& scene, const SolveControl& control, const std:
     // scaling G' = D G D (symmetric Sinkhorn balancing, D = 1 on open patches), which keeps
     // reciprocity A_i F_ij = A_j F_ji exact while closing every closed row: energy is conserved
     // and the furnace gives B = M/(1 − ρ) exactly. The size of the correction is reported.
-    std::vector<char> closed(N, 0);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, N, 16), [&](const auto& range) {
       for (std::size_t i = range.begin(); i != range.end(); ++i) closed[i] = hemisphere_is_closed(sol.patches, i, vis);
     });
@@ -529,29 +538,7 @@ Solution solve_dense(const Scene& scene, const SolveControl& control, const std:
       }
     });
     sol.stats.max_closure_error = worst_closure;
-    auto surfaces_where = [&](char kind) {
-      std::set<std::string> names;
-      for (std::size_t i = 0; i < N; ++i)
-        if (closed[i] == kind) names.insert(scene.surfaces[sol.patches[i].surface].name);
-      std::string list;
-      for (const auto& name : names) list += (list.empty() ? "" : ", ") + name;
-      return list;
-    };
-    if (leaking_patches > 0)
-      sol.warnings.push_back(std::to_string(leaking_patches) + " patches (of " + surfaces_where(2) +
-                             ") see the back of a surface: an enclosure is open underneath or a "
-                             "surface faces the wrong way; light reaching a back side is lost");
-    for (std::size_t i = 0; i < N; ++i)
-      if (closed[i] == 3) enclosed.push_back(i);
-    if (!enclosed.empty()) {
-      double area = 0;
-      for (std::size_t i : enclosed) area += sol.patches[i].area_m2;
-      char text[64];
-      std::snprintf(text, sizeof text, "%.6g", area);
-      sol.warnings.push_back(std::to_string(enclosed.size()) + " patches (" + text + " m² of " + surfaces_where(3) +
-                             ") lie inside closed solids (e.g. under a box standing on a floor): they see only "
-                             "back faces, exchange no light with the scene and are left out of the result");
-    }
+    report_hemisphere_findings(sol, scene, closed);
     double worst = 0;
     for (std::size_t i = 0; i < N; ++i)
       for (std::size_t j = i + 1; j < N; ++j) {
@@ -746,8 +733,7 @@ Solution solve_dense(const Scene& scene, const SolveControl& control, const std:
   account_energy(scene.grid, sources, sol.patches, rho, M, E_direct, E_point, sol.radiosity, sol.irradiance, leak,
                  sol.stats);
   sol.stats.rays = vis.rays_traced();
-  drop_patches(sol, enclosed);
-  sol.stats.enclosed_patches = enclosed.size();
+  leave_out_enclosed(sol, closed);
   sol.stats.time_total_s = seconds_since(t_start);
   report(1.0);
   return sol;

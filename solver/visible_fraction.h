@@ -5,6 +5,8 @@
 #pragma once
 
 #include <array>
+#include <cmath>
+#include <cstddef>
 #include <utility>
 
 #include "mesh/geometry.h"
@@ -52,6 +54,38 @@ double weighted_visible_fraction(const Visibility& vis, Endpoints&& endpoints, W
     if (traced > 0 && (visible == 0 || visible == traced)) break;  // unanimous: no need to refine
   }
   return total > 0 ? seen / total : 1.0;
+}
+
+// Probes a triangle's hemisphere (unit normal n) with `rays` cosine-distributed rays: a rank-1 lattice
+// (Fibonacci) in [0,1)², shifted by a hash of `seed` (Cranley–Patterson) so that neighbouring patches
+// do not miss the same directions, from the triangle's stratified sample points. `normal_of(hit)`
+// gives the normal of occluder `hit`. Returns 1 if every ray hits the front of a surface (closed),
+// 2 if some hit a back face (an open enclosure underneath or a surface facing the wrong way), 3 if
+// every ray does (the triangle lies inside a closed solid), 0 if one escapes the scene (open). An
+// opening that subtends a fraction p of the projected hemisphere goes unseen with probability
+// (1 − p)^rays.
+template <class NormalOf>
+char probe_hemisphere(const Triangle& tri, const Vector3& n, std::size_t seed, int rays, const Visibility& vis,
+                      NormalOf&& normal_of) {
+  const Vector3 t = normalize(std::abs(n.x) < 0.9 ? cross(n, Vector3{1, 0, 0}) : cross(n, Vector3{0, 1, 0}));
+  const Vector3 s = cross(n, t);
+  const double reach = vis.scene_extent();
+  constexpr double kGolden = 0.6180339887498949;  // (√5 − 1)/2
+  constexpr double kTwoPi = 6.283185307179586;
+  const double shift1 = std::fmod((seed + 1) * 0.7548776662466927, 1.0);
+  const double shift2 = std::fmod((seed + 1) * 0.5698402909980532, 1.0);
+  int back = 0;
+  for (int k = 0; k < rays; ++k) {
+    const double u1 = std::fmod((k + 0.5) / rays + shift1, 1.0);
+    const double u2 = std::fmod(k * kGolden + shift2, 1.0);
+    const double r = std::sqrt(u1), phi = kTwoPi * u2;  // cosine-weighted (Malley)
+    const Vector3 d = t * (r * std::cos(phi)) + s * (r * std::sin(phi)) + n * std::sqrt(1 - u1);
+    const Point3 from = vis.lift(visibility_sample(tri, k % kMaxVisibilitySamples), n);
+    const int hit = vis.first_hit(from, from + d * reach);
+    if (hit < 0) return 0;
+    back += dot(normal_of(hit), d) >= 0;
+  }
+  return back == 0 ? 1 : (back == rays ? 3 : 2);
 }
 
 }  // namespace lambert
