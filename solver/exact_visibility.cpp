@@ -162,16 +162,18 @@ ExactVisibility::ExactVisibility(std::span<const Triangle> occluders) : impl_(st
 
 ExactVisibility::~ExactVisibility() = default;
 
-double ExactVisibility::visible_factor(const Point3& p_world, const Vector3& n, const Triangle& source_world) const {
+ExactVisibility::VisibleRegion ExactVisibility::visible_region(const Point3& p_world, const Vector3& n,
+                                                              const Triangle& source_world) const {
+  VisibleRegion out;
   const Vector3 shift = to_vector(impl_->centre);
   const Point3 p = p_world - shift;
   const Triangle S{{source_world.v[0] - shift, source_world.v[1] - shift, source_world.v[2] - shift}};
   const Vector3 area_vector = S.area_vector();
-  if (!(length(area_vector) > 0)) return 0;
+  if (!(length(area_vector) > 0)) return out;
   const Vector3 ns = normalize(area_vector);
   const Point3& s0 = S.v[0];
   const double h = dot(ns, p - s0);
-  if (!(h > 0)) return 0;  // p behind or in the source's plane: the source's front does not face it
+  if (!(h > 0)) return out;  // p behind or in the source's plane: the source's front does not face it
   const Point3 c = S.centroid();
   const double scale = distance(p, c) + S.bounding_radius();
 
@@ -181,7 +183,7 @@ double ExactVisibility::visible_factor(const Point3& p_world, const Vector3& n, 
   front.count = 3;
   std::copy(S.v.begin(), S.v.end(), front.v.begin());
   front = clip(front, HalfSpace{n, p, 0});
-  if (front.count < 3) return 0;
+  if (front.count < 3) return out;
 
   // Region that can occlude: the cone from p over S enlarged by 5 %, above S's plane (by a margin
   // relative to h: occluders in S's own plane, i.e. S's surface and its coplanar neighbours, do not
@@ -197,8 +199,12 @@ double ExactVisibility::visible_factor(const Point3& p_world, const Vector3& n, 
   region[4] = horizon;
   region[5] = HalfSpace{-ns, s0, -h * (1 - 1e-12)};
 
-  const Vector3 e1 = normalize(S.v[1] - s0), e2 = cross(ns, e1);
-  auto to_plane = [&](const Point3& y) { return Point2d{dot(y - s0, e1), dot(y - s0, e2)}; };
+  out.p_ = p_world;
+  out.n_ = n;
+  out.origin_ = source_world.v[0];
+  out.e1_ = normalize(S.v[1] - s0);
+  out.e2_ = cross(ns, out.e1_);
+  auto to_plane = [&](const Point3& y) { return Point2d{dot(y - s0, out.e1_), dot(y - s0, out.e2_)}; };
   std::vector<Loop2d> shadows;
   impl_->query(region, [&](const Triangle& t) {
     const SmallPolygon part = clip_to_region(t, region);
@@ -214,16 +220,55 @@ double ExactVisibility::visible_factor(const Point3& p_world, const Vector3& n, 
 
   Loop2d source(front.count);
   for (int k = 0; k < front.count; ++k) source[k] = to_plane(front.v[k]);
-  if (shadows.empty()) return point_boundary_factor(p, n, std::span<const Point3>(front.v.data(), front.count));
+  if (shadows.empty()) {
+    out.loops_.push_back(std::move(source));
+    return out;
+  }
   booleans_.fetch_add(1, std::memory_order_relaxed);
+  out.loops_ = convex_difference(source, shadows);
+  return out;
+}
+
+double ExactVisibility::VisibleRegion::factor_of(const Triangle& part) const {
+  // Clip every loop to the part (Sutherland–Hodgman against its three edges, in the source's plane).
+  // A loop that is not convex may come out with edges doubling back along the part's boundary; they
+  // cancel in the contour sum, which only depends on the winding number the clipped loop keeps.
+  Loop2d corners(3);
+  for (int k = 0; k < 3; ++k) corners[k] = {dot(part.v[k] - origin_, e1_), dot(part.v[k] - origin_, e2_)};
+  const double orientation = (corners[1][0] - corners[0][0]) * (corners[2][1] - corners[0][1]) -
+                             (corners[2][0] - corners[0][0]) * (corners[1][1] - corners[0][1]);
+  if (orientation < 0) std::swap(corners[1], corners[2]);
   double factor = 0;
   std::vector<Point3> loop3;
-  for (const Loop2d& loop : convex_difference(source, shadows)) {
+  for (const Loop2d& loop : loops_) {
+    Loop2d clipped = loop;
+    for (int e = 0; e < 3 && clipped.size() >= 3; ++e) {
+      const Point2d& a = corners[e];
+      const Point2d& b = corners[(e + 1) % 3];
+      auto side = [&](const Point2d& q) { return (b[0] - a[0]) * (q[1] - a[1]) - (b[1] - a[1]) * (q[0] - a[0]); };
+      Loop2d next;
+      for (std::size_t i = 0, m = clipped.size(); i < m; ++i) {
+        const Point2d& u = clipped[i];
+        const Point2d& w = clipped[(i + 1) % m];
+        const double su = side(u), sw = side(w);
+        if (su >= 0) next.push_back(u);
+        if ((su >= 0) != (sw >= 0)) {
+          const double t = su / (su - sw);
+          next.push_back({u[0] + (w[0] - u[0]) * t, u[1] + (w[1] - u[1]) * t});
+        }
+      }
+      clipped = std::move(next);
+    }
+    if (clipped.size() < 3) continue;
     loop3.clear();
-    for (const Point2d& y : loop) loop3.push_back(s0 + e1 * y[0] + e2 * y[1]);
-    factor += point_boundary_factor(p, n, loop3);
+    for (const Point2d& y : clipped) loop3.push_back(origin_ + e1_ * y[0] + e2_ * y[1]);
+    factor += point_boundary_factor(p_, n_, loop3);
   }
   return std::max(0.0, factor);
+}
+
+double ExactVisibility::visible_factor(const Point3& p, const Vector3& n, const Triangle& source) const {
+  return visible_region(p, n, source).factor_of(source);
 }
 
 bool ExactVisibility::shaft_is_clear(std::span<const Point3> points_world) const {

@@ -14,7 +14,9 @@
 #include <atomic>
 #include <cstdint>
 #include <memory>
+#include <array>
 #include <span>
+#include <vector>
 
 #include "mesh/geometry.h"
 
@@ -33,6 +35,22 @@ class ExactVisibility {
   // n; equal to point_triangle_factor(p, n, source) when nothing occludes. Occluders lying in the
   // source's plane or in p's horizon plane (the surfaces the source and p sit on) do not occlude.
   double visible_factor(const Point3& p, const Vector3& n, const Triangle& source) const;
+
+  // The part of `source` that p sees, kept as loops in the source's plane, so that the visible factor
+  // of any convex part of the source (a patch cut from it) follows by clipping the loops to the part:
+  // one Boolean evaluation serves every patch of an input triangle seen from one point.
+  class VisibleRegion {
+   public:
+    // F(dA_p -> visible part of `part`), `part` a triangle inside the source (its plane).
+    double factor_of(const Triangle& part) const;
+
+   private:
+    friend class ExactVisibility;
+    Point3 p_, origin_;
+    Vector3 n_, e1_, e2_;
+    std::vector<std::vector<std::array<double, 2>>> loops_;  // outer boundaries CCW, holes CW
+  };
+  VisibleRegion visible_region(const Point3& p, const Vector3& n, const Triangle& source) const;
 
   // Whether no occluder reaches into the interior of the convex hull of `points` (at most 16): for
   // the vertices of two elements, the shaft that holds every segment between them, so a clear shaft

@@ -11,6 +11,7 @@
 #include <map>
 #include <numeric>
 #include <set>
+#include <unordered_map>
 
 #include "mesh/mesh_ops.h"
 #include "solver/cubature.h"
@@ -62,9 +63,12 @@ double patch_visible_fraction(const Patch& a, const Patch& b, const Visibility& 
 // separates its corners, so it cannot slip between interior samples) and 16 interior samples decide
 // the common cases: all visible gives the unoccluded factor `f`, none the value 0. Where they
 // disagree, the visible part is computed exactly (solver/exact_visibility.h): occluders projected onto
-// the patch's plane and subtracted with exact 2D Boolean operations.
+// the plane of the patch's input triangle and subtracted with exact 2D Boolean operations, once per
+// point and input triangle (`regions`), then clipped to the patch.
+using RegionCache = std::unordered_map<int, ExactVisibility::VisibleRegion>;
 double visible_point_triangle_factor(const Point3& p, const Vector3& n, const Patch& patch, double f,
-                                     const Visibility& vis, const ExactVisibility& exact) {
+                                     const Visibility& vis, const ExactVisibility& exact,
+                                     const std::vector<Triangle>& input_triangles, RegionCache& regions) {
   if (f <= 0) return 0;
   const Triangle& t = patch.triangle;
   const Point3 from = vis.lift(p, n);
@@ -76,7 +80,10 @@ double visible_point_triangle_factor(const Point3& p, const Vector3& n, const Pa
   for (int k = 0; k < 16; ++k, ++traced) visible += vis.visible(from, vis.lift(visibility_sample(t, k), patch.normal));
   if (visible == traced) return f;
   if (visible == 0) return 0;
-  return exact.visible_factor(p, n, t);
+  if (patch.input_triangle < 0) return exact.visible_factor(p, n, t);
+  auto [it, added] = regions.try_emplace(patch.input_triangle);
+  if (added) it->second = exact.visible_region(p, n, input_triangles[patch.input_triangle]);
+  return it->second.factor_of(t);
 }
 
 // The hemisphere probe of patch i (visible_fraction.h, probe_hemisphere): 1024 rays, so an opening
@@ -339,17 +346,20 @@ Solution solve_dense(const Scene& scene, const SolveControl& control, const std:
   if (premeshed) {
     sol.patches = *premeshed;
   } else {
+    int first_input = 0;  // index of the surface's first input triangle over all surfaces
     for (std::size_t s = 0; s < scene.surfaces.size(); ++s) {
-      const TriangleMesh patches = subdivide_to_max_area(scene.surfaces[s].mesh, max_area);
-      for (std::size_t t = 0; t < patches.triangles.size(); ++t) {
+      const SubdividedMesh patches = subdivide_to_max_area_with_parents(scene.surfaces[s].mesh, max_area);
+      for (std::size_t t = 0; t < patches.mesh.triangles.size(); ++t) {
         Patch p;
         p.surface = static_cast<int>(s);
-        p.triangle = patches.triangle(t);
+        p.input_triangle = first_input + patches.parent[t];
+        p.triangle = patches.mesh.triangle(t);
         p.area_m2 = p.triangle.area();
         if (!(p.area_m2 > 0)) continue;  // degenerate input was rejected by the decoder; splits are not
         p.normal = p.triangle.normal();
         sol.patches.push_back(p);
       }
+      first_input += static_cast<int>(scene.surfaces[s].mesh.triangles.size());
     }
   }
   const std::size_t N = sol.patches.size();
@@ -693,8 +703,10 @@ Solution solve_dense(const Scene& scene, const SolveControl& control, const std:
     for (auto& c : sol.contributions) c.probes[k].irradiance.assign(P * W, 0.0);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, P, 1), [&](const auto& range) {
       std::vector<std::pair<std::size_t, double>> seen;  // (patch, visible point-to-patch factor)
+      RegionCache regions;
       for (std::size_t q = range.begin(); q != range.end(); ++q) {
         const Point3& p = probe.points[q];
+        regions.clear();
         for (std::size_t s = 0; s < sources.size(); ++s) {
           const double g = sources[s]->point_factor(p, probe.normal, vis);
           if (g == 0) continue;
@@ -711,7 +723,8 @@ Solution solve_dense(const Scene& scene, const SolveControl& control, const std:
           if (!radiates[j]) continue;
           const double f = point_triangle_factor(p, probe.normal, sol.patches[j].triangle);
           if (f == 0) continue;
-          const double fv = visible_point_triangle_factor(p, probe.normal, sol.patches[j], f, vis, exact);
+          const double fv =
+              visible_point_triangle_factor(p, probe.normal, sol.patches[j], f, vis, exact, input_triangles, regions);
           if (fv > 0) seen.emplace_back(j, fv);
         }
         auto accumulate = [&](const std::vector<double>& B, double* e) {

@@ -24,6 +24,7 @@ struct Patch {
   Triangle triangle;        // metres
   double area_m2 = 0;
   Vector3 normal;
+  int input_triangle = -1;  // the input triangle it was cut from, counted over all surfaces in order
 };
 
 struct ProbeResult {
@@ -34,7 +35,7 @@ struct SolveStats {
   std::size_t patches = 0;
   std::size_t links = 0;               // patch pairs with a non-zero factor
   std::uint64_t rays = 0;
-  std::uint64_t exact_visibility_evaluations = 0;  // point-to-patch factors cut exactly (probes)
+  std::uint64_t exact_visibility_evaluations = 0;  // exact Boolean evaluations (probe point × input triangle)
   int iterations = 0;                  // largest over the spectral systems
   double residual = 0;                 // largest final relative residual
   int spectral_systems_solved = 0;

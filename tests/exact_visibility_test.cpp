@@ -10,6 +10,7 @@
 #include <set>
 
 #include "mesh/polygon_boolean.h"
+#include "solver/cubature.h"
 #include "solver/form_factor.h"
 #include "solver/spectrum.h"
 #include "solver/visibility.h"
@@ -192,6 +193,28 @@ TEST(ExactVisibility, AgreesWithDenseRaysOnRandomTiltedOccluders) {
   EXPECT_GE(partly_hidden, 6);  // the comparison is about shadows, not about the unoccluded kernel
   std::printf("partly hidden %d of 12, worst |exact - rays| / F = %.2e\n", partly_hidden, worst);
   RecordProperty("worst_relative_difference", std::to_string(worst));
+}
+
+TEST(ExactVisibility, OneRegionServesEveryPartOfTheSource) {
+  // The visible region of an input triangle, clipped to each of its 16 parts (as patches are cut
+  // from it), gives each part's own exactly computed visible factor; the parts add up to the whole.
+  // The blocker's shadow lies inside the source (a hole) and crosses many parts.
+  const auto source = rect_at(-1, 1, -1, 1, 2, true);
+  const ExactVisibility ev(concat(source, rect_at(-0.2, 0.33, -0.17, 0.29, 1, false)));
+  const Point3 p{0.1, -0.05, 0};
+  const Vector3 n = normalize(Vector3{0.2, 0.1, 1});
+  for (const Triangle& t : source) {
+    const auto region = ev.visible_region(p, n, t);
+    double sum = 0;
+    for (const Triangle& a : split4(t))
+      for (const Triangle& part : split4(a)) {
+        const double clipped = region.factor_of(part);
+        EXPECT_NEAR(clipped, ev.visible_factor(p, n, part), 1e-14);
+        sum += clipped;
+      }
+    EXPECT_NEAR(sum, ev.visible_factor(p, n, t), 1e-14);
+    EXPECT_LT(sum, point_triangle_factor(p, n, t) - 0.01);  // the blocker does hide part of it
+  }
 }
 
 TEST(ShaftCulling, ClearOnlyWhenNothingIsBetween) {
