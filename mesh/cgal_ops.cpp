@@ -241,7 +241,9 @@ namespace {
 // the edge they have in common? For a shared edge pq (t1 = pqr, t2 = pqs) the triangles overlap
 // exactly when they are coplanar and r, s lie on the same side of pq. For a shared vertex p they
 // meet elsewhere exactly when the edge opposite p of one triangle meets the other triangle (the
-// intersection is convex and contains p, so its far boundary lies on such an edge).
+// intersection is convex and contains p, so its far boundary lies on such an edge). Triangles that
+// share nothing and only touch (along a line or at a point: a T-junction between separately meshed
+// faces, a box standing on a floor) are not reported: only crossing or overlapping interiors are.
 //
 // Coplanar pairs (every pair of neighbours on a flat wall) are decided in 2D, dropping the
 // dominant axis of the plane's normal: that projection is a bijection of the plane, uses the input
@@ -274,13 +276,18 @@ bool triangles_intersect(const std::array<int, 3>& a, const std::array<int, 3>& 
         const P2 &p = a2[shared_a[0]], &q = a2[shared_a[1]];
         return CGAL::orientation(p, q, a2[ra]) == CGAL::orientation(p, q, b2[sb]);
       }
-      const K::Triangle_2 ta(a2[0], a2[1], a2[2]), tb(b2[0], b2[1], b2[2]);
-      if (shared == 1) {
-        const int ia = shared_a[0], ib = shared_b[0];
-        return CGAL::do_intersect(K::Segment_2(a2[(ia + 1) % 3], a2[(ia + 2) % 3]), tb) ||
-               CGAL::do_intersect(K::Segment_2(b2[(ib + 1) % 3], b2[(ib + 2) % 3]), ta);
-      }
-      return CGAL::do_intersect(ta, tb);
+      // Interiors overlap unless an edge line of one separates the other (closed): triangles
+      // meeting only along a line or at a point (a T-junction) touch, they do not intersect.
+      auto separated_by_edge_of = [](const P2* x, const P2* y) {
+        for (int e = 0; e < 3; ++e) {
+          const CGAL::Orientation inner = CGAL::orientation(x[e], x[(e + 1) % 3], x[(e + 2) % 3]);
+          bool outside = true;
+          for (int k = 0; k < 3 && outside; ++k) outside = CGAL::orientation(x[e], x[(e + 1) % 3], y[k]) != inner;
+          if (outside) return true;
+        }
+        return false;
+      };
+      return !separated_by_edge_of(a2, b2) && !separated_by_edge_of(b2, a2);
     }
   }
 
@@ -289,6 +296,20 @@ bool triangles_intersect(const std::array<int, 3>& a, const std::array<int, 3>& 
     const P3 &p = A(shared_a[0]), &q = A(shared_a[1]), &r = A(ra), &s = B(sb);
     return CGAL::coplanar(p, q, r, s) && CGAL::coplanar_orientation(p, q, r, s) == CGAL::POSITIVE;
   }
+  // Not coplanar, at most one shared vertex. If one triangle lies on one closed side of the other's
+  // plane, the two can meet only along its edge or at its corner: contact (a box standing on a
+  // floor, a T-junction between separately meshed faces), not a crossing; only crossings count.
+  auto one_side = [](const P3& p, const P3& q, const P3& r, const P3* x) {
+    bool above = false, below = false;
+    for (int k = 0; k < 3; ++k) {
+      const CGAL::Orientation o = CGAL::orientation(p, q, r, x[k]);
+      above |= o == CGAL::POSITIVE;
+      below |= o == CGAL::NEGATIVE;
+    }
+    return !(above && below);
+  };
+  const P3 av[3] = {A(0), A(1), A(2)}, bv[3] = {B(0), B(1), B(2)};
+  if (one_side(av[0], av[1], av[2], bv) || one_side(bv[0], bv[1], bv[2], av)) return false;
   if (shared == 1) {
     const int ia = shared_a[0], ib = shared_b[0];
     const K::Segment_3 opposite_a(A((ia + 1) % 3), A((ia + 2) % 3));

@@ -27,7 +27,8 @@ PolygonTriangulation triangulate_polygon(const std::vector<Point3>& polygon,
 
 struct MeshHealth {
   std::vector<int> degenerate_triangles;          // zero area or repeated vertex index
-  std::vector<std::pair<int, int>> self_intersections;  // pairs of intersecting triangles (not adjacent)
+  std::vector<std::pair<int, int>> self_intersections;  // pairs whose interiors cross or overlap (not
+                                                        // pairs that only touch, e.g. at T-junctions)
   bool consistently_oriented = true;              // adjacent triangles agree on orientation
   bool manifold = true;                           // every edge has at most two triangles
   int boundary_edges = 0;                         // edges with one triangle (0: closed mesh)

@@ -254,6 +254,24 @@ TEST(CheckMesh, CoplanarOverlaps) {
             (std::vector<std::pair<int, int>>{{0, 1}, {0, 2}, {1, 2}}));
 }
 
+TEST(CheckMesh, TJunctionsTouchButDoNotIntersect) {
+  // Non-conforming meshes: a floor strip ending in the middle of a perpendicular wall triangle's
+  // bottom edge, a coplanar T-junction (two small triangles along one big triangle's edge), and a
+  // triangle standing with its edge on another's interior. None shares a vertex index with the
+  // other; all only touch. A triangle pushed 1 mm through the floor does cross it.
+  TriangleMesh m;
+  m.vertices = {{0, 0, 0}, {2, 0, 0}, {0, 0, 1},                  // 0: wall in y = 0, edge along x
+                {0.5, 0, 0}, {1.5, 0, 0}, {1, 1, 0},              // 1: floor triangle on the wall's edge
+                {0, -1, 0}, {2, -1, 0}, {1, -2, 0},               // 2: big floor triangle, edge y = -1
+                {0, -1, 0.0}, {1, -1, 0}, {0.5, -0.5, 0},         // 3, 4: small ones on that edge
+                {1, -1, 0}, {2, -1, 0}, {1.5, -0.5, 0},
+                {0.8, -1.5, 0}, {1.2, -1.5, 0}, {1, -1.5, 0.5}};  // 5: stands on triangle 2
+  m.triangles = {{0, 1, 2}, {3, 4, 5}, {6, 8, 7}, {9, 10, 11}, {12, 13, 14}, {15, 16, 17}};
+  EXPECT_TRUE(check_mesh(m).self_intersections.empty());
+  m.vertices[15].z = m.vertices[16].z = -0.001;
+  EXPECT_EQ(check_mesh(m).self_intersections, (std::vector<std::pair<int, int>>{{2, 5}}));
+}
+
 TEST(CheckMesh, DegenerateTrianglesAreReportedWithoutCrashing) {
   TriangleMesh m = unit_cube();
   m.vertices.push_back({0.5, 0, 0});                  // on the edge 0-1
