@@ -315,8 +315,8 @@ int run_bench(const std::vector<std::string>& args) {
       } catch (const std::exception&) {
         scaling_max = 0;
       }
-      if (!(scaling_max >= 1e3 && scaling_max <= 4e6)) {
-        std::cerr << "lambert bench: --scaling takes the largest patch count, 1000 to 4e6\n";
+      if (!(scaling_max >= 1e3 && scaling_max <= 2e6)) {
+        std::cerr << "lambert bench: --scaling takes the largest patch count, 1000 to 2e6\n";
         return 2;
       }
     } else {
