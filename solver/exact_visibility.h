@@ -14,11 +14,11 @@
 #include <atomic>
 #include <cstdint>
 #include <memory>
-#include <array>
 #include <span>
 #include <vector>
 
 #include "mesh/geometry.h"
+#include "mesh/polygon_boolean.h"
 
 namespace lambert {
 
@@ -48,7 +48,7 @@ class ExactVisibility {
     friend class ExactVisibility;
     Point3 p_, origin_;
     Vector3 n_, e1_, e2_;
-    std::vector<std::vector<std::array<double, 2>>> loops_;  // outer boundaries CCW, holes CW
+    std::vector<Loop2d> loops_;  // in (e1_, e2_) about origin_: outer boundaries CCW, holes CW
   };
   VisibleRegion visible_region(const Point3& p, const Vector3& n, const Triangle& source) const;
 

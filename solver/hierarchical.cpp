@@ -312,21 +312,21 @@ class Refiner {
     // (through the link and through the occluder's own links), which biased row sums by tens of %.
     const std::array<Point3, 6> hull = {R.tri.v[0], R.tri.v[1], R.tri.v[2], S.tri.v[0], S.tri.v[1], S.tri.v[2]};
     const bool clear = shafts_.shaft_is_clear(hull);
-    const double v =
-        clear
-            ? 1.0
-            : weighted_visible_fraction(
-                  vis_,
-                  [&](int k) {
-                    return std::pair{vis_.lift(visibility_sample(R.tri, k), R.normal),
-                                     vis_.lift(visibility_sample(S.tri, paired_sample(k)), S.normal)};
-                  },
-                  [&](const Point3& p, const Point3& q) { return link_weight(p, R.normal, q, S.normal); }, 16);
-    // An occluder in the shaft makes the link uncertain even when the rays agree: unanimous rays
+    // An occluder in the shaft makes the link uncertain even when rays would agree: unanimous rays
     // between coarse elements can miss a partly hidden part (and drop a link that is half visible)
-    // or a small occluder. Half the factor bounds the error either way.
+    // or a small occluder. Half the factor bounds the error either way; a link that the bound splits
+    // traces no rays.
     const double partial = clear ? 0 : 0.5 * F;
     if (splittable && B * partial * weight > epsilon_) return split(r, s, out);
+    const double v =
+        clear ? 1.0
+              : weighted_visible_fraction(
+                    vis_,
+                    [&](int k) {
+                      return std::pair{vis_.lift(visibility_sample(R.tri, k), R.normal),
+                                       vis_.lift(visibility_sample(S.tri, paired_sample(k)), S.normal)};
+                    },
+                    [&](const Point3& p, const Point3& q) { return link_weight(p, R.normal, q, S.normal); }, 16);
     if (v <= 0) return;
     Link link;
     link.receiver = r;

@@ -687,9 +687,9 @@ Solution solve_dense(const Scene& scene, const SolveControl& control, const std:
   for (auto& c : sol.contributions) c.probes.resize(scene.probes.size());
   // Exact partial visibility works on the input triangles (fewer, larger occluders than the patches).
   std::vector<Triangle> input_triangles;
-  for (const Surface& surface : scene.surfaces)
-    for (std::size_t t = 0; t < surface.mesh.triangles.size() && !scene.probes.empty(); ++t)
-      input_triangles.push_back(surface.mesh.triangle(t));
+  if (!scene.probes.empty())
+    for (const Surface& surface : scene.surfaces)
+      for (std::size_t t = 0; t < surface.mesh.triangles.size(); ++t) input_triangles.push_back(surface.mesh.triangle(t));
   const ExactVisibility exact(input_triangles);
   std::vector<char> radiates(N, 0);
   for (std::size_t j = 0; j < N; ++j) {
