@@ -477,6 +477,7 @@ bool contact_segment(const Triangle& t, const Vector3& n, const Triangle& u, dou
 ContactImprint imprint_contacts(const std::vector<TriangleMesh>& meshes, double tolerance) {
   ContactImprint out;
   out.meshes = meshes;
+  for (const TriangleMesh& m : meshes) out.on_opposite_face.emplace_back(m.triangles.size(), 0);
   struct Ref { int mesh, triangle; };
   std::vector<Ref> refs;
   Bounds3 all;
@@ -519,8 +520,8 @@ ContactImprint imprint_contacts(const std::vector<TriangleMesh>& meshes, double 
     } else if (dot(u.normal(), n) < 0 && std::all_of(u.v.begin(), u.v.end(), [&](const Point3& p) {
                  return std::abs(dot(p - t.v[0], n)) <= eps;
                })) {
-      // Face to face in one plane (a box's bottom on a floor): u's edges cut t, and the pieces of t
-      // under u are contact area, seen by nothing.
+      // Face to face in one plane (a box's bottom on a floor, or the two faces of a thin sheet): u's
+      // edges cut t, and the pieces of t on u are flagged; which of the two it is, the caller decides.
       for (int k = 0; k < 3; ++k) cuts[ti].emplace_back(u.v[k], u.v[(k + 1) % 3]);
       facing[ti].push_back(ui);
     } else if (ti < ui && rt.mesh != ru.mesh && dot(u.normal(), n) > 0 &&
@@ -547,12 +548,17 @@ ContactImprint imprint_contacts(const std::vector<TriangleMesh>& meshes, double 
   });
 
   // Rebuild each mesh: untouched triangles as they were, cut ones by their pieces.
-  for (int m = 0; m < static_cast<int>(meshes.size()); ++m) out.meshes[m].triangles.clear();
+  for (int m = 0; m < static_cast<int>(meshes.size()); ++m) {
+    out.meshes[m].triangles.clear();
+    out.on_opposite_face[m].clear();
+  }
   for (int r = 0; r < static_cast<int>(refs.size()); ++r) {
     TriangleMesh& mesh = out.meshes[refs[r].mesh];
+    std::vector<char>& flags = out.on_opposite_face[refs[r].mesh];
     const auto& original = meshes[refs[r].mesh].triangles[refs[r].triangle];
     if (cuts[r].empty()) {
       mesh.triangles.push_back(original);
+      flags.push_back(0);
       continue;
     }
     const Triangle t = meshes[refs[r].mesh].triangle(refs[r].triangle);
@@ -566,7 +572,7 @@ ContactImprint imprint_contacts(const std::vector<TriangleMesh>& meshes, double 
     for (const auto& [a, b] : cuts[r]) cdt.insert_constraint(to_2d(a), to_2d(b));
     std::map<ImprintCDT::Vertex_handle, int> index;
     for (int k = 0; k < 3; ++k) index[corners[k]] = original[k];  // the corners stay shared
-    std::size_t pieces = 0, removed = 0;
+    std::size_t pieces = 0, pieces_on_opposite = 0;
     for (ImprintCDT::Face_handle f : cdt.finite_face_handles()) {
       // Segments reach beyond t: keep the faces inside it (centroid inside t's three edges).
       const P2 centroid = CGAL::centroid(f->vertex(0)->point(), f->vertex(1)->point(), f->vertex(2)->point());
@@ -583,18 +589,13 @@ ContactImprint imprint_contacts(const std::vector<TriangleMesh>& meshes, double 
                                                    CGAL::squared_distance(c, a)}));
         if (2 * std::abs(CGAL::area(a, b, c)) <= 4 * eps * longest) continue;
       }
-      const bool contact = std::any_of(facing[r].begin(), facing[r].end(), [&](int ui) {
+      const bool on_opposite = std::any_of(facing[r].begin(), facing[r].end(), [&](int ui) {
         const Triangle u = meshes[refs[ui].mesh].triangle(refs[ui].triangle);
         const P2 a = to_2d(u.v[0]), b = to_2d(u.v[1]), c = to_2d(u.v[2]);  // clockwise in t's frame
         return CGAL::orientation(a, b, centroid) != CGAL::LEFT_TURN &&
                CGAL::orientation(b, c, centroid) != CGAL::LEFT_TURN &&
                CGAL::orientation(c, a, centroid) != CGAL::LEFT_TURN;
       });
-      if (contact) {
-        out.contact_area += std::abs(CGAL::area(f->vertex(0)->point(), f->vertex(1)->point(), f->vertex(2)->point()));
-        ++removed;
-        continue;
-      }
       std::array<int, 3> tri{};
       for (int k = 0; k < 3; ++k) {
         const auto v = f->vertex(k);
@@ -608,9 +609,11 @@ ContactImprint imprint_contacts(const std::vector<TriangleMesh>& meshes, double 
       }
       // The triangulation is counter-clockwise in (e1, e2), i.e. about n: t's orientation.
       mesh.triangles.push_back(tri);
+      flags.push_back(on_opposite ? 1 : 0);
+      pieces_on_opposite += on_opposite;
       ++pieces;
     }
-    if (pieces + removed > 1 || removed > 0) {
+    if (pieces > 1 || pieces_on_opposite > 0) {
       ++out.triangles_cut;
       out.segments += cuts[r].size();
     }

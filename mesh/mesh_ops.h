@@ -41,7 +41,10 @@ struct ContactImprint {
   std::vector<TriangleMesh> meshes;  // the input meshes, with cut triangles replaced by their pieces
   std::size_t triangles_cut = 0;     // input triangles that were cut
   std::size_t segments = 0;          // contact segments imprinted
-  double contact_area = 0;           // area removed where two faces lie on each other (m² for metres)
+  // Per mesh and output triangle: 1 where the piece lies on a coplanar triangle of another mesh that
+  // faces the other way. That is either contact (a box's bottom on a floor: nothing sees either face)
+  // or the two faces of a sheet of zero thickness (both seen); only the solids around them tell.
+  std::vector<std::vector<char>> on_opposite_face;
   struct Overlap { int mesh_a, mesh_b; double area; };
   std::vector<Overlap> overlaps;     // coplanar faces of two meshes facing the same way, overlapping
 };
@@ -51,9 +54,8 @@ struct ContactImprint {
 // patch made from it straddles a contact line: the part under the box and the part beside it get
 // their own patches, and light falling beside the box is not smeared under it. Segments along a
 // triangle's own edges do not cut. Coplanar triangles facing the same way do not cut each other;
-// coplanar triangles facing each other (a box's bottom on the floor) are contact: each is cut along
-// the other's edges and the pieces under the other are removed (nothing sees them), their area
-// summed in contact_area. Coplanar faces of two meshes that face the same way and overlap (a rug
+// coplanar triangles facing opposite ways (a box's bottom on the floor, a two-sided sheet) are each
+// cut along the other's edges and the pieces on the other are flagged in on_opposite_face. Coplanar faces of two meshes that face the same way and overlap (a rug
 // modelled in the floor's plane) are left as they are and listed in `overlaps` with the shared area. Pieces come from
 // a constrained Delaunay triangulation (CGAL, exact predicates) of the triangle and its segments,
 // keep the triangle's orientation and are not conforming with the neighbours (T-junctions are

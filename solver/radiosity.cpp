@@ -235,6 +235,49 @@ void check_patch_count(double patches, bool estimate, std::size_t solver_limit, 
 
 namespace {
 Solution solve_method(const Scene& scene, const SolveControl& control);
+
+// Pieces that lie on an opposite-facing coplanar face (imprint_contacts, on_opposite_face) are either
+// contact — a box's bottom on a floor, where the space in front of one of the two faces is inside the
+// other's solid — or the two faces of a sheet of zero thickness, in front of both of which is open
+// space. A hemisphere probe on each side of the piece tells them apart: if every ray from one side
+// hits the back of a surface, that side is inside a solid and the piece is contact, seen by nothing,
+// and removed. Returns the area removed (both faces counted).
+double remove_contact_pieces(ContactImprint& imprint) {
+  std::vector<Triangle> all;
+  std::vector<Vector3> normals;
+  bool any = false;
+  for (std::size_t m = 0; m < imprint.meshes.size(); ++m)
+    for (std::size_t t = 0; t < imprint.meshes[m].triangles.size(); ++t) {
+      all.push_back(imprint.meshes[m].triangle(t));
+      normals.push_back(all.back().normal());
+      any |= imprint.on_opposite_face[m][t] != 0;
+    }
+  if (!any) return 0;
+  const Visibility vis(all);
+  constexpr int kRays = 64;  // a solid's interior sends every ray to a back face; one escape ends it
+  auto inside_a_solid = [&](const Triangle& side, const Vector3& n, std::size_t seed) {
+    return probe_hemisphere(side, n, seed, kRays, vis, [&](int hit) { return normals[hit]; }) == 3;
+  };
+  double removed = 0;
+  std::size_t index = 0;
+  for (std::size_t m = 0; m < imprint.meshes.size(); ++m) {
+    TriangleMesh& mesh = imprint.meshes[m];
+    std::vector<std::array<int, 3>> kept;
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t, ++index) {
+      if (imprint.on_opposite_face[m][t]) {
+        const Triangle& front = all[index];
+        const Triangle back{{front.v[0], front.v[2], front.v[1]}};
+        if (inside_a_solid(front, normals[index], index) || inside_a_solid(back, -normals[index], index)) {
+          removed += front.area();
+          continue;
+        }
+      }
+      kept.push_back(mesh.triangles[t]);
+    }
+    mesh.triangles = std::move(kept);
+  }
+  return removed;
+}
 }  // namespace
 
 Solution solve(const Scene& scene, const SolveControl& control) {
@@ -244,6 +287,7 @@ Solution solve(const Scene& scene, const SolveControl& control) {
   meshes.reserve(scene.surfaces.size());
   for (const Surface& s : scene.surfaces) meshes.push_back(s.mesh);
   ContactImprint imprint = imprint_contacts(meshes);
+  const double contact_area = remove_contact_pieces(imprint);
   std::vector<std::string> overlap_warnings;
   for (const auto& o : imprint.overlaps) {
     char text[64];
@@ -262,10 +306,10 @@ Solution solve(const Scene& scene, const SolveControl& control) {
   for (std::size_t s = 0; s < cut.surfaces.size(); ++s) cut.surfaces[s].mesh = std::move(imprint.meshes[s]);
   Solution sol = solve_method(cut, control);
   sol.stats.contact_triangles_cut = imprint.triangles_cut;
-  sol.stats.contact_area_m2 = imprint.contact_area;
-  if (imprint.contact_area > 0) {
+  sol.stats.contact_area_m2 = contact_area;
+  if (contact_area > 0) {
     char text[64];
-    std::snprintf(text, sizeof text, "%.6g", imprint.contact_area);
+    std::snprintf(text, sizeof text, "%.6g", contact_area);
     sol.warnings.push_back(std::string(text) + " m² of surface lie face to face on other surfaces (e.g. a box's "
                            "bottom on a floor): that contact area is hidden and left out of the patches");
   }

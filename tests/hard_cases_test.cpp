@@ -135,6 +135,45 @@ TEST(HardCases, FurnaceWithACrateStandingOnTheFloor) {
     }
 }
 
+TEST(HardCases, TwoSidedSheetOfZeroThicknessCastsAShadow) {
+  // A sheet modelled as two coincident faces back to back (a shelf, a baffle): its faces lie on each
+  // other like a box's bottom on a floor, but open space lies in front of both, so neither is
+  // contact. Lit straight down (E0 = 1, everything black): the top receives E0, the bottom and the
+  // floor under the sheet nothing, the floor beside it E0. Removing the pair as contact would let
+  // the light through.
+  for (SolverMethod method : {SolverMethod::Dense, SolverMethod::Hierarchical}) {
+    SceneBuilder b;
+    const int black = b.material("black", 0.0);
+    b.surface("floor", black, rectangle({-2, -2, 0}, {4, 0, 0}, {0, 4, 0}));
+    b.surface("sheet top", black, rectangle({-0.5, -0.5, 1}, {1, 0, 0}, {0, 1, 0}));
+    b.surface("sheet bottom", black, rectangle({-0.5, -0.5, 1}, {0, 1, 0}, {1, 0, 0}));
+    b.scene().lights.push_back(DirectionalLight{{0, 0, -1}, {1.0}});
+    b.scene().light_pointers.push_back("/lights/0");
+    b.max_patch_area(0.05);
+    b.scene().solver.method = method;
+    const Solution sol = solve(b.scene());
+    const char* what = method == SolverMethod::Dense ? "dense" : "hierarchical";
+    EXPECT_EQ(sol.stats.contact_area_m2, 0.0) << what;
+    EXPECT_NEAR(surface_mean(sol, 1, sol.irradiance), 1.0, 1e-12) << what;
+    EXPECT_NEAR(surface_mean(sol, 2, sol.irradiance), 0.0, 1e-12) << what;
+    double top = 0, bottom = 0;
+    for (const Patch& p : sol.patches) {
+      if (p.surface == 1) top += p.area_m2;
+      if (p.surface == 2) bottom += p.area_m2;
+    }
+    EXPECT_NEAR(top, 1.0, 1e-12) << what;
+    EXPECT_NEAR(bottom, 1.0, 1e-12) << what;
+    for (std::size_t i = 0; i < sol.patches.size(); ++i) {
+      const Patch& p = sol.patches[i];
+      if (p.surface != 0) continue;
+      const Point3 g = p.triangle.centroid();
+      const double m = std::max(std::abs(g.x), std::abs(g.y));
+      if (m < 0.45) EXPECT_EQ(sol.irradiance[i], 0.0) << what << ": floor patch " << i << " under the sheet";
+      if (m > 0.55) EXPECT_NEAR(sol.irradiance[i], 1.0, 1e-12) << what << ": floor patch " << i << " beside it";
+    }
+  }
+}
+
 TEST(HardCases, MisorientedWallIsReportedAsALeak) {
   // One wall of a closed room faces outwards: patches that see its back get a warning naming them.
   SceneBuilder b;

@@ -603,18 +603,32 @@ TEST(ImprintContacts, FloorIsCutAlongTheFootprintOfABoxStandingOnIt) {
   EXPECT_NEAR(inside_area, (x1 - x0) * (y1 - y0), 1e-12);
 }
 
-TEST(ImprintContacts, FaceToFaceContactIsRemovedFromBothFaces) {
-  // A box's bottom (facing down) lying on a floor (facing up): the floor keeps only what is beside
-  // the footprint, the bottom vanishes, and the removed area is the footprint twice.
+// Area of a mesh's triangles flagged (or not) as lying on an opposite-facing face.
+double flagged_area(const ContactImprint& r, std::size_t m, bool flagged) {
+  double area = 0;
+  for (std::size_t t = 0; t < r.meshes[m].triangles.size(); ++t)
+    if ((r.on_opposite_face[m][t] != 0) == flagged) area += r.meshes[m].triangle(t).area();
+  return area;
+}
+
+TEST(ImprintContacts, FaceToFacePiecesAreCutAndFlagged) {
+  // A box's bottom (facing down) lying on a floor (facing up): the floor is cut along the footprint
+  // and its pieces under the bottom are flagged, as is all of the bottom; nothing is lost (whether
+  // it is contact or a two-sided sheet is the solver's call: radiosity_test, TwoSidedSheet…).
   const TriangleMesh floor = quad_mesh({-1, -1, 0}, {2, 0, 0}, {0, 2, 0});
   const TriangleMesh bottom = quad_mesh({-0.5, -0.2, 0}, {0, 0.6, 0}, {0.6, 0, 0});  // normal -z
   const ContactImprint r = imprint_contacts({floor, bottom});
-  EXPECT_TRUE(r.meshes[1].triangles.empty());
-  EXPECT_NEAR(mesh_area(r.meshes[0]), 4.0 - 0.36, 1e-12);
-  EXPECT_NEAR(r.contact_area, 2 * 0.36, 1e-12);
+  ASSERT_EQ(r.on_opposite_face.size(), 2u);
+  ASSERT_EQ(r.on_opposite_face[0].size(), r.meshes[0].triangles.size());
+  ASSERT_EQ(r.on_opposite_face[1].size(), r.meshes[1].triangles.size());
+  EXPECT_NEAR(flagged_area(r, 0, true), 0.36, 1e-12);
+  EXPECT_NEAR(flagged_area(r, 0, false), 4.0 - 0.36, 1e-12);
+  EXPECT_NEAR(flagged_area(r, 1, true), 0.36, 1e-12);
+  EXPECT_NEAR(flagged_area(r, 1, false), 0.0, 1e-12);
   for (std::size_t t = 0; t < r.meshes[0].triangles.size(); ++t) {
     const Point3 g = r.meshes[0].triangle(t).centroid();
-    EXPECT_FALSE(g.x > -0.5 && g.x < 0.1 && g.y > -0.2 && g.y < 0.4) << "piece " << t << " is under the box";
+    const bool under = g.x > -0.5 && g.x < 0.1 && g.y > -0.2 && g.y < 0.4;
+    EXPECT_EQ(r.on_opposite_face[0][t] != 0, under) << "piece " << t;
   }
 }
 
@@ -644,8 +658,9 @@ TEST(ImprintContacts, NoSliversWhereFootprintsCrossTheFloorsDiagonal) {
     meshes.push_back(desk);
   }
   const ContactImprint r = imprint_contacts(meshes);
-  EXPECT_NEAR(mesh_area(r.meshes[0]), 200 - 3 * 1.28, 1e-9);
-  EXPECT_NEAR(r.contact_area, 2 * 3 * 1.28, 1e-9);
+  EXPECT_NEAR(mesh_area(r.meshes[0]), 200, 1e-9);
+  EXPECT_NEAR(flagged_area(r, 0, true), 3 * 1.28, 1e-9);
+  for (std::size_t m = 1; m < meshes.size(); ++m) EXPECT_NEAR(flagged_area(r, m, true), 1.28, 1e-9);
   for (const TriangleMesh& m : r.meshes)
     for (std::size_t t = 0; t < m.triangles.size(); ++t) {
       const Triangle tri = m.triangle(t);
