@@ -36,20 +36,60 @@ inline std::array<Triangle, 4> split4(const Triangle& t) {
           Triangle{{m01, m12, m20}}};
 }
 
-// ∫_t f dA by the degree-5 rule, refined 1:4 where the children's sum differs from the parent's
-// estimate by more than the tolerance (halved at each level). `coarse` is the parent's estimate.
+// Bisection at the midpoint of the longest edge (orientation preserved): the split for elongated
+// triangles, whose 1:4 children would be as elongated as they are.
+inline std::array<Triangle, 2> split2(const Triangle& t) {
+  int e = 0;  // the longest edge runs from v[e] to v[e+1]
+  double longest = -1;
+  for (int k = 0; k < 3; ++k) {
+    const double len = length_squared(t.v[(k + 1) % 3] - t.v[k]);
+    if (len > longest) longest = len, e = k;
+  }
+  const Point3 &a = t.v[e], &b = t.v[(e + 1) % 3], &c = t.v[(e + 2) % 3];
+  const Point3 m = barycentric(a, b, c, 0.5, 0.5, 0);
+  return {Triangle{{a, m, c}}, Triangle{{m, b, c}}};
+}
+
+// Whether a triangle is elongated enough (longest edge over height above 4) that bisection serves
+// it better than the 1:4 split.
+inline bool is_elongated(const Triangle& t) {
+  const double longest = t.max_edge_length();
+  return longest * longest > 8 * t.area();  // height = 2·area/longest < longest/4
+}
+
+namespace detail {
+// `budget` counts half levels: a bisection spends one, a 1:4 split two (it halves the size in both
+// directions where bisection halves it in one).
 template <class F>
-double integrate_adaptive(const Triangle& t, F&& f, double coarse, double abs_tolerance, int max_depth) {
+double integrate_adaptive(const Triangle& t, F& f, double coarse, double abs_tolerance, int budget) {
   const TriangleRule rule = triangle_rule_degree5();
+  if (is_elongated(t)) {
+    const auto children = split2(t);
+    const double fine[2] = {apply_rule(rule, children[0], f), apply_rule(rule, children[1], f)};
+    const double fine_sum = fine[0] + fine[1];
+    if (budget <= 0 || std::abs(fine_sum - coarse) <= abs_tolerance) return fine_sum;
+    return integrate_adaptive(children[0], f, fine[0], abs_tolerance / 2, budget - 1) +
+           integrate_adaptive(children[1], f, fine[1], abs_tolerance / 2, budget - 1);
+  }
   const auto children = split4(t);
   std::array<double, 4> fine;
   double fine_sum = 0;
   for (int c = 0; c < 4; ++c) fine_sum += fine[c] = apply_rule(rule, children[c], f);
-  if (max_depth <= 0 || std::abs(fine_sum - coarse) <= abs_tolerance) return fine_sum;
+  if (budget <= 1 || std::abs(fine_sum - coarse) <= abs_tolerance) return fine_sum;
   double sum = 0;
-  for (int c = 0; c < 4; ++c)
-    sum += integrate_adaptive(children[c], f, fine[c], abs_tolerance / 2, max_depth - 1);
+  for (int c = 0; c < 4; ++c) sum += integrate_adaptive(children[c], f, fine[c], abs_tolerance / 2, budget - 2);
   return sum;
+}
+}  // namespace detail
+
+// ∫_t f dA by the degree-5 rule, refined where the children's sum differs from the parent's estimate
+// by more than the tolerance (halved at each level): 1:4 for well-shaped triangles, bisection of the
+// longest edge for elongated ones (a sliver's error comes from its length, and its 1:4 children
+// would be slivers too). `coarse` is the parent's estimate; at most max_depth levels of 1:4 splits
+// (or twice as many bisections).
+template <class F>
+double integrate_adaptive(const Triangle& t, F&& f, double coarse, double abs_tolerance, int max_depth) {
+  return detail::integrate_adaptive(t, f, coarse, abs_tolerance, 2 * max_depth);
 }
 
 }  // namespace lambert

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include "solver/cubature.h"
 #include "solver/spectrum.h"
 #include "tests/test_geometry.h"
 
@@ -107,6 +108,33 @@ TEST(AreaFormFactor, HowellC14PerpendicularRectanglesSharingAnEdge) {
     EXPECT_NEAR(rect_rect_factor(floor, wall), r.F, 1e-4 * r.F) << "W=" << r.W << " H=" << r.H;
     EXPECT_NEAR(test::howell_c14(r.W, r.H), r.F, 1e-9);
   }
+}
+
+TEST(AreaFormFactor, SliversAlongACommonEdge) {
+  // C-14 with strips of aspect 100 (each rectangle is two triangles of aspect 200 along the common
+  // edge, where the integrand is singular): the cubature bisects them along their length instead
+  // of splitting them 1:4 into more slivers. Accuracy against the closed form, and the number of
+  // kernel evaluations, bounded.
+  for (const auto& [W, H] : {std::pair{0.01, 1.0}, std::pair{1.0, 0.01}, std::pair{0.01, 0.01}}) {
+    const auto floor = rectangle({0, 0, 0}, {1, 0, 0}, {0, W, 0});
+    const auto wall = rectangle({0, 0, 0}, {0, 0, H}, {1, 0, 0});
+    const double exact = test::howell_c14(W, H);
+    EXPECT_NEAR(rect_rect_factor(floor, wall), exact, 1e-4 * exact) << "W=" << W << " H=" << H;
+  }
+  const Triangle sliver{{Point3{0, 0, 0}, Point3{1, 0, 0}, Point3{1, 0.01, 0}}};
+  const Triangle wall{{Point3{0, 0, 0}, Point3{0, 0, 1}, Point3{1, 0, 0}}};
+  int evaluations = 0;
+  auto kernel = [&](const Point3& p) {
+    ++evaluations;
+    return point_triangle_factor(p, Vector3{0, 0, 1}, wall);
+  };
+  const double coarse = apply_rule(triangle_rule_degree5(), sliver, kernel);
+  const double fine = integrate_adaptive(sliver, kernel, coarse, 1e-7 * sliver.area(), 7);
+  AreaFactorOptions tight;
+  tight.rel_tolerance = 1e-10;
+  tight.max_depth = 12;
+  EXPECT_NEAR(fine, area_form_factor(sliver, wall, tight), 1e-6 * fine);
+  EXPECT_LT(evaluations, 6000);  // 4 459 here; the 1:4 split took 27 363
 }
 
 TEST(AreaFormFactor, ReciprocityIncludingTouchingPatches) {
