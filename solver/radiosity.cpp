@@ -47,15 +47,21 @@ double link_weight(const Point3& p, const Vector3& np, const Point3& q, const Ve
   return std::max(0.0, dot(np, d)) * std::max(0.0, -dot(nq, d)) / (r2 * r2);
 }
 
-// Visible fraction between two patches; each ray weighted by the differential kernel at its ends.
-double patch_visible_fraction(const Patch& a, const Patch& b, const Visibility& vis) {
-  return weighted_visible_fraction(
-      vis,
-      [&](int k) {
+// Visible fractions between patch a and each of `partners` (indices into `patches`); each ray weighted
+// by the differential kernel at its ends (visible_fraction.h, traced as one stream per round).
+void patch_visible_fractions(const Patch& a, std::span<const std::size_t> partners, const std::vector<Patch>& patches,
+                             const Visibility& vis, std::span<double> fractions) {
+  weighted_visible_fractions(
+      vis, partners.size(),
+      [&](std::size_t l, int k) {
+        const Patch& b = patches[partners[l]];
         return std::pair{vis.lift(visibility_sample(a.triangle, k), a.normal),
                          vis.lift(visibility_sample(b.triangle, paired_sample(k)), b.normal)};
       },
-      [&](const Point3& p, const Point3& q) { return link_weight(p, a.normal, q, b.normal); });
+      [&](std::size_t l, const Point3& p, const Point3& q) {
+        return link_weight(p, a.normal, q, patches[partners[l]].normal);
+      },
+      fractions);
 }
 
 // The factor from a point (a probe) to the visible part of a patch. Rays from the point to the
@@ -524,19 +530,30 @@ Solution solve_dense(const Scene& scene, const SolveControl& control, const std:
           return;
         }
         const Patch& a = sol.patches[i];
-        std::size_t row_links = 0;
+        // The row's unoccluded factors first, then the visibility of all its links as ray streams.
+        thread_local std::vector<std::size_t> partners;
+        thread_local std::vector<double> unoccluded, fraction;
+        partners.clear(), unoccluded.clear();
         for (std::size_t j = i + 1; j < N; ++j) {
           const Patch& b = sol.patches[j];
           if (!any_in_front(a.triangle, a.normal, b.triangle) || !any_in_front(b.triangle, b.normal, a.triangle))
             continue;
           // Integrate over the smaller patch: its point-to-polygon factor varies least across it.
-          const double unoccluded = a.area_m2 <= b.area_m2 ? area_form_factor(a.triangle, b.triangle)
-                                                           : area_form_factor(b.triangle, a.triangle);
-          if (unoccluded <= 0) continue;
-          const double g = unoccluded * patch_visible_fraction(a, b, vis);
+          const double f = a.area_m2 <= b.area_m2 ? area_form_factor(a.triangle, b.triangle)
+                                                  : area_form_factor(b.triangle, a.triangle);
+          if (f <= 0) continue;
+          partners.push_back(j);
+          unoccluded.push_back(f);
+        }
+        fraction.resize(partners.size());
+        patch_visible_fractions(a, partners, sol.patches, vis, fraction);
+        std::size_t row_links = 0;
+        for (std::size_t l = 0; l < partners.size(); ++l) {
+          const std::size_t j = partners[l];
+          const double g = unoccluded[l] * fraction[l];
           if (g <= 0) continue;
           F[i * N + j] = g / a.area_m2;  // each (i, j) with i < j is written by row i's task only
-          F[j * N + i] = g / b.area_m2;
+          F[j * N + i] = g / sol.patches[j].area_m2;
           ++row_links;
         }
         links += row_links;

@@ -7,7 +7,9 @@
 #include <array>
 #include <cmath>
 #include <cstddef>
+#include <span>
 #include <utility>
+#include <vector>
 
 #include "mesh/geometry.h"
 #include "solver/visibility.h"
@@ -31,6 +33,25 @@ inline Point3 visibility_sample(const Triangle& t, int k) {
 // cells that do not correspond.
 constexpr int paired_sample(int k) { return k < 4 ? (k + 1) % 4 : 4 + (37 * k + 11) % 60; }
 
+// The running vote of a link's rays: visible share of the kernel weight, and whether the rays traced
+// so far agree.
+struct VisibilityTally {
+  double seen = 0, total = 0;
+  int visible = 0, traced = 0;
+  void add(double weight, bool v) {
+    ++traced;
+    visible += v;
+    seen += v ? weight : 0;
+    total += weight;
+  }
+  bool unanimous() const { return traced > 0 && (visible == 0 || visible == traced); }
+  double fraction() const { return total > 0 ? seen / total : 1.0; }
+};
+
+// The rounds of rays: samples [0, first_round), then up to 16, then up to kMaxVisibilitySamples; a
+// link stops after the first round whose rays (all so far) are unanimous.
+constexpr std::array<int, 3> visibility_rounds(int first_round) { return {first_round, 16, kMaxVisibilitySamples}; }
+
 // endpoints(k) -> {from, to} for ray k (k < 64); weight(from, to) >= 0. `first_round` rays (4 or 16)
 // are traced before the first vote. Samples of zero weight
 // (behind either end's horizon: the kernel has already excluded them) are not traced and do not vote:
@@ -38,22 +59,57 @@ constexpr int paired_sample(int k) { return k < 4 ? (k + 1) % 4 : 4 + (37 * k + 
 // no sample has weight (the rays cannot tell; the unoccluded factor stands).
 template <class Endpoints, class Weight>
 double weighted_visible_fraction(const Visibility& vis, Endpoints&& endpoints, Weight&& weight, int first_round = 4) {
-  double seen = 0, total = 0;
-  int visible = 0, traced = 0, k = 0;
-  for (int round_end : {first_round, 16, kMaxVisibilitySamples}) {
+  VisibilityTally tally;
+  int k = 0;
+  for (int round_end : visibility_rounds(first_round)) {
     for (; k < round_end; ++k) {
       const auto [from, to] = endpoints(k);
       const double w = weight(from, to);
-      if (!(w > 0)) continue;
-      const bool v = vis.visible(from, to);
-      ++traced;
-      visible += v;
-      seen += v ? w : 0;
-      total += w;
+      if (w > 0) tally.add(w, vis.visible(from, to));
     }
-    if (traced > 0 && (visible == 0 || visible == traced)) break;  // unanimous: no need to refine
+    if (tally.unanimous()) break;  // no need to refine
   }
-  return total > 0 ? seen / total : 1.0;
+  return tally.fraction();
+}
+
+// The same for `count` links at once (one receiver's row of links): each round's rays of all links
+// still undecided go to Embree together as a stream (Visibility::visible on a span), which traces
+// coherent rays about twice as fast as one call per ray. endpoints(l, k) and weight(l, from, to) as
+// above for link l; fractions[l] receives the result, equal to weighted_visible_fraction's.
+template <class Endpoints, class Weight>
+void weighted_visible_fractions(const Visibility& vis, std::size_t count, Endpoints&& endpoints, Weight&& weight,
+                                std::span<double> fractions, int first_round = 4) {
+  thread_local std::vector<VisibilityTally> tallies;
+  thread_local std::vector<std::size_t> open, still_open, ray_link;
+  thread_local std::vector<Segment> segments;
+  thread_local std::vector<double> weights;
+  thread_local std::vector<std::uint8_t> visible;
+  tallies.assign(count, VisibilityTally{});
+  open.resize(count);
+  for (std::size_t l = 0; l < count; ++l) open[l] = l;
+  int k_begin = 0;
+  for (int round_end : visibility_rounds(first_round)) {
+    segments.clear(), weights.clear(), ray_link.clear();
+    for (std::size_t l : open)
+      for (int k = k_begin; k < round_end; ++k) {
+        const auto [from, to] = endpoints(l, k);
+        const double w = weight(l, from, to);
+        if (!(w > 0)) continue;
+        segments.push_back({from, to});
+        weights.push_back(w);
+        ray_link.push_back(l);
+      }
+    visible.resize(segments.size());
+    vis.visible(segments, visible);
+    for (std::size_t r = 0; r < segments.size(); ++r) tallies[ray_link[r]].add(weights[r], visible[r] != 0);
+    still_open.clear();
+    for (std::size_t l : open)
+      if (!tallies[l].unanimous()) still_open.push_back(l);
+    open.swap(still_open);
+    k_begin = round_end;
+    if (open.empty()) break;
+  }
+  for (std::size_t l = 0; l < count; ++l) fractions[l] = tallies[l].fraction();
 }
 
 // Probes a triangle's hemisphere (unit normal n) with `rays` cosine-distributed rays: a rank-1 lattice
