@@ -26,8 +26,8 @@ void solve_radiosity_systems(const std::vector<double>& F, std::size_t n, std::v
 
 // Matrix-free form, for operators that are never stored as a matrix (the hierarchical solver's
 // gather / push–pull, solver/hierarchical.h): apply_F(V, FV) sets FV[k] = F V[k] for every vector
-// of one lockstep batch (n-vectors; at most 16 at a time). The systems are (I − diag(ρ_k) F) B_k = b_k
-// as above, with the same stopping rule.
+// of one lockstep batch (n-vectors; all systems, or as many as 256 MB of Krylov bases allow). The
+// systems are (I − diag(ρ_k) F) B_k = b_k as above, with the same stopping rule.
 using BatchOperator =
     std::function<void(const std::vector<const double*>& V, const std::vector<double*>& FV)>;
 void solve_radiosity_systems(std::size_t n, const BatchOperator& apply_F, std::vector<RadiositySystem>& systems,
