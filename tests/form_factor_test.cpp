@@ -159,17 +159,28 @@ TEST(AreaFormFactor, ReciprocityIncludingTouchingPatches) {
 }
 
 TEST(AreaFormFactor, FarFieldShortcutIsAccurate) {
-  // Pairs just beyond the far-field threshold: the fixed rule against full adaptive cubature.
+  // Pairs just beyond the far-field thresholds: the fixed rule against full adaptive cubature. From
+  // separation 4 for any pair; from 3 for pairs wholly in front of each other's planes (h ≥ 1.9 with
+  // these triangles: separation 3 starts at h ≈ 1.75).
   AreaFactorOptions adaptive_only;
   adaptive_only.far_field_separation = 1e300;
   adaptive_only.rel_tolerance = 1e-9;
   const Triangle receiver{{Point3{0, 0, 0}, Point3{1, 0, 0}, Point3{0, 1, 0}}};
-  for (double h : {2.5, 4.0, 8.0}) {
+  for (double h : {1.9, 2.5, 4.0, 8.0}) {
     for (double shift : {0.0, 1.5, 4.0}) {
       const Triangle source{{Point3{shift, 0, h}, Point3{shift, 1, h}, Point3{shift + 1, 0, h}}};
       const double reference = area_form_factor(receiver, source, adaptive_only);
       EXPECT_NEAR(area_form_factor(receiver, source), reference, 1e-5 * reference) << h << " " << shift;
     }
+  }
+  // Tilted sources whose planes cut the receiver's (a horizon crosses the integrand) at separation
+  // just above 3 still get adaptive cubature.
+  for (double tilt : {0.5, 2.0}) {
+    const Triangle source{{Point3{-0.5, -0.5, 1.6}, Point3{1.5, -0.5, 1.6 + tilt}, Point3{-0.5, 1.5, 1.6}}};
+    Triangle facing = source;
+    if (dot(facing.normal(), Vector3{0, 0, 1}) > 0) std::swap(facing.v[1], facing.v[2]);
+    const double reference = area_form_factor(receiver, facing, adaptive_only);
+    if (reference > 0) EXPECT_NEAR(area_form_factor(receiver, facing), reference, 1e-5 * reference) << tilt;
   }
 }
 
