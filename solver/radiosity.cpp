@@ -64,32 +64,51 @@ void patch_visible_fractions(const Patch& a, std::span<const std::size_t> partne
       fractions);
 }
 
-// The factor from a point (a probe) to the visible part of a patch. Rays from the point to the
+// The factors from a point (a probe) to the visible parts of patches. Rays from the point to each
 // patch's corners (pulled 0.1 % towards the centroid: a straight shadow edge that crosses a triangle
-// separates its corners, so it cannot slip between interior samples) and 16 interior samples decide
-// the common cases: all visible gives the unoccluded factor `f`, none the value 0. Where they
-// disagree, the visible part is computed exactly (solver/exact_visibility.h): occluders projected onto
-// the plane of the patch's input triangle and subtracted with exact 2D Boolean operations, once per
-// point and input triangle (`regions`), then clipped to the patch.
+// separates its corners, so it cannot slip between interior samples) and to 16 interior samples
+// decide the common cases: all visible gives the unoccluded factor, none the value 0. The rays of all
+// patches go to Embree as one stream. Where they disagree, the visible part is computed exactly
+// (solver/exact_visibility.h): occluders projected onto the plane of the patch's input triangle and
+// subtracted with exact 2D Boolean operations, once per point and input triangle (`regions`), then
+// clipped to the patch. candidates: (patch, unoccluded factor > 0); each factor is replaced by the
+// visible one.
 using RegionCache = std::unordered_map<int, ExactVisibility::VisibleRegion>;
-double visible_point_triangle_factor(const Point3& p, const Vector3& n, const Patch& patch, double f,
-                                     const Visibility& vis, const ExactVisibility& exact,
-                                     const std::vector<Triangle>& input_triangles, RegionCache& regions) {
-  if (f <= 0) return 0;
-  const Triangle& t = patch.triangle;
+constexpr int kProbeRays = 3 + 16;
+void visible_point_triangle_factors(const Point3& p, const Vector3& n, const std::vector<Patch>& patches,
+                                    std::vector<std::pair<std::size_t, double>>& candidates, const Visibility& vis,
+                                    const ExactVisibility& exact, const std::vector<Triangle>& input_triangles,
+                                    RegionCache& regions) {
+  thread_local std::vector<Segment> rays;
+  thread_local std::vector<std::uint8_t> visible;
   const Point3 from = vis.lift(p, n);
-  int visible = 0, traced = 0;
-  for (int c = 0; c < 3; ++c, ++traced) {
-    const Point3 corner = barycentric(t.v[c], t.v[(c + 1) % 3], t.v[(c + 2) % 3], 0.998, 0.001, 0.001);
-    visible += vis.visible(from, vis.lift(corner, patch.normal));
+  rays.clear();
+  for (const auto& [j, f] : candidates) {
+    const Patch& patch = patches[j];
+    const Triangle& t = patch.triangle;
+    for (int c = 0; c < 3; ++c) {
+      const Point3 corner = barycentric(t.v[c], t.v[(c + 1) % 3], t.v[(c + 2) % 3], 0.998, 0.001, 0.001);
+      rays.push_back({from, vis.lift(corner, patch.normal)});
+    }
+    for (int k = 0; k < 16; ++k) rays.push_back({from, vis.lift(visibility_sample(t, k), patch.normal)});
   }
-  for (int k = 0; k < 16; ++k, ++traced) visible += vis.visible(from, vis.lift(visibility_sample(t, k), patch.normal));
-  if (visible == traced) return f;
-  if (visible == 0) return 0;
-  if (patch.input_triangle < 0) return exact.visible_factor(p, n, t);
-  auto [it, added] = regions.try_emplace(patch.input_triangle);
-  if (added) it->second = exact.visible_region(p, n, input_triangles[patch.input_triangle]);
-  return it->second.factor_of(t);
+  visible.resize(rays.size());
+  vis.visible(rays, visible);
+  for (std::size_t c = 0; c < candidates.size(); ++c) {
+    const Patch& patch = patches[candidates[c].first];
+    const int seen = static_cast<int>(std::count(visible.begin() + c * kProbeRays, visible.begin() + (c + 1) * kProbeRays, 1));
+    double& factor = candidates[c].second;
+    if (seen == kProbeRays) continue;
+    if (seen == 0) {
+      factor = 0;
+    } else if (patch.input_triangle < 0) {
+      factor = exact.visible_factor(p, n, patch.triangle);
+    } else {
+      auto [it, added] = regions.try_emplace(patch.input_triangle);
+      if (added) it->second = exact.visible_region(p, n, input_triangles[patch.input_triangle]);
+      factor = it->second.factor_of(patch.triangle);
+    }
+  }
 }
 
 // The hemisphere probe of patch i (visible_fraction.h, probe_hemisphere): 1024 rays, so an opening
@@ -783,11 +802,9 @@ Solution solve_dense(const Scene& scene, const SolveControl& control, const std:
         for (std::size_t j = 0; j < N; ++j) {
           if (!radiates[j]) continue;
           const double f = point_triangle_factor(p, probe.normal, sol.patches[j].triangle);
-          if (f == 0) continue;
-          const double fv =
-              visible_point_triangle_factor(p, probe.normal, sol.patches[j], f, vis, exact, input_triangles, regions);
-          if (fv > 0) seen.emplace_back(j, fv);
+          if (f > 0) seen.emplace_back(j, f);
         }
+        visible_point_triangle_factors(p, probe.normal, sol.patches, seen, vis, exact, input_triangles, regions);
         auto accumulate = [&](const std::vector<double>& B, double* e) {
           for (const auto& [j, fv] : seen)
             for (std::size_t w = 0; w < W; ++w) e[w] += fv * B[j * W + w];
