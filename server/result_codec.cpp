@@ -177,6 +177,7 @@ std::string encode_result(const Scene& scene, const Solution& sol, const Report&
       {"links", st.links},
       {"rays", st.rays},
       {"exact_visibility_evaluations", st.exact_visibility_evaluations},
+      {"links_clear_without_rays", st.links_clear},
       {"iterations", st.iterations},
       {"residual", st.residual},
       {"spectral_systems_solved", st.spectral_systems_solved},

@@ -21,6 +21,7 @@
 #include "solver/hierarchical.h"
 #include "solver/light_model.h"
 #include "solver/linear_solve.h"
+#include "solver/occluder_planes.h"
 #include "solver/visibility.h"
 #include "solver/visible_fraction.h"
 
@@ -538,10 +539,19 @@ Solution solve_dense(const Scene& scene, const SolveControl& control, const std:
   std::vector<double> F;  // row-major N×N, F_ij = G_ij / A_i
   std::vector<double> row_sum(N, 0.0);
   std::vector<char> closed(N, 0);  // hemisphere probe per patch (visible_fraction.h, probe_hemisphere)
-  std::atomic<std::size_t> rows_done{0}, links{0};
+  std::atomic<std::size_t> rows_done{0}, links{0}, links_clear{0};
   std::atomic<bool> cancelled{false};
   if (need_factors) {
     F.assign(N * N, 0.0);
+    // Links that no occluder plane separates from each other need no rays (occluder_planes.h).
+    std::vector<Triangle> input_triangles;
+    for (const Surface& surface : scene.surfaces)
+      for (std::size_t t = 0; t < surface.mesh.triangles.size(); ++t) input_triangles.push_back(surface.mesh.triangle(t));
+    const OccluderPlanes occluder_planes(input_triangles);
+    std::vector<OccluderPlanes::Sides> sides(occluder_planes.usable() ? N : 0);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, sides.size(), 256), [&](const auto& range) {
+      for (std::size_t i = range.begin(); i != range.end(); ++i) sides[i] = occluder_planes.sides(sol.patches[i].triangle.v);
+    });
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, N, 1), [&](const auto& range) {
       for (std::size_t i = range.begin(); i != range.end(); ++i) {
         if (control.cancel && control.cancel->load(std::memory_order_relaxed)) {
@@ -550,9 +560,9 @@ Solution solve_dense(const Scene& scene, const SolveControl& control, const std:
         }
         const Patch& a = sol.patches[i];
         // The row's unoccluded factors first, then the visibility of all its links as ray streams.
-        thread_local std::vector<std::size_t> partners;
-        thread_local std::vector<double> unoccluded, fraction;
-        partners.clear(), unoccluded.clear();
+        thread_local std::vector<std::size_t> partners, traced;
+        thread_local std::vector<double> unoccluded, fraction, traced_fraction;
+        partners.clear(), unoccluded.clear(), traced.clear();
         for (std::size_t j = i + 1; j < N; ++j) {
           const Patch& b = sol.patches[j];
           if (!any_in_front(a.triangle, a.normal, b.triangle) || !any_in_front(b.triangle, b.normal, a.triangle))
@@ -561,11 +571,22 @@ Solution solve_dense(const Scene& scene, const SolveControl& control, const std:
           const double f = a.area_m2 <= b.area_m2 ? area_form_factor(a.triangle, b.triangle)
                                                   : area_form_factor(b.triangle, a.triangle);
           if (f <= 0) continue;
+          const bool clear = !sides.empty() && occluder_planes.clear(sides[i], sides[j]);
+          if (!clear) traced.push_back(partners.size());
           partners.push_back(j);
           unoccluded.push_back(f);
         }
-        fraction.resize(partners.size());
-        patch_visible_fractions(a, partners, sol.patches, vis, fraction);
+        // Wholly visible where no occluder plane can come between; rays for the rest.
+        links_clear += partners.size() - traced.size();
+        fraction.assign(partners.size(), 1.0);
+        if (!traced.empty()) {
+          thread_local std::vector<std::size_t> traced_partners;
+          traced_partners.clear();
+          for (std::size_t l : traced) traced_partners.push_back(partners[l]);
+          traced_fraction.resize(traced.size());
+          patch_visible_fractions(a, traced_partners, sol.patches, vis, traced_fraction);
+          for (std::size_t r = 0; r < traced.size(); ++r) fraction[traced[r]] = traced_fraction[r];
+        }
         std::size_t row_links = 0;
         for (std::size_t l = 0; l < partners.size(); ++l) {
           const std::size_t j = partners[l];
@@ -640,6 +661,7 @@ Solution solve_dense(const Scene& scene, const SolveControl& control, const std:
     sol.stats.max_reciprocity_error = worst;
   }
   sol.stats.links = links;
+  sol.stats.links_clear = links_clear;
   sol.stats.time_form_factors_s = seconds_since(t0);
   report(0.85);
 

@@ -36,6 +36,7 @@ struct SolveStats {
   std::size_t links = 0;               // patch pairs with a non-zero factor
   std::uint64_t rays = 0;
   std::uint64_t exact_visibility_evaluations = 0;  // exact Boolean evaluations (probe point × input triangle)
+  std::uint64_t links_clear = 0;       // links wholly visible by the occluder planes: no rays (occluder_planes.h)
   int iterations = 0;                  // largest over the spectral systems
   double residual = 0;                 // largest final relative residual
   int spectral_systems_solved = 0;

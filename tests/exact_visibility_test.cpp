@@ -12,9 +12,11 @@
 #include "mesh/polygon_boolean.h"
 #include "solver/cubature.h"
 #include "solver/form_factor.h"
+#include "solver/occluder_planes.h"
 #include "solver/spectrum.h"
 #include "solver/visibility.h"
 #include "solver/visible_fraction.h"
+#include "tests/scene_builder.h"
 #include "tests/test_geometry.h"
 
 namespace lambert {
@@ -275,6 +277,54 @@ TEST(VisibilitySamples, FirstRoundIsTheCornersAndTheCentreAndRoundsAreStratified
   for (int k = 0; k < kMaxVisibilitySamples; ++k) paired.insert(paired_sample(k));
   EXPECT_EQ(paired.size(), static_cast<std::size_t>(kMaxVisibilitySamples));  // a permutation
   for (int k = 0; k < 4; ++k) EXPECT_LT(paired_sample(k), 4);                   // corners with corners
+}
+
+TEST(OccluderPlanes, AConvexRoomHasNoneAndEveryPairIsClear) {
+  const std::vector<Triangle> room = test::box({0, 0, 0}, {6, 4, 3}, true);
+  const OccluderPlanes planes(room);
+  ASSERT_TRUE(planes.usable());
+  EXPECT_EQ(planes.planes(), 0u);
+  for (const Triangle& a : room)
+    for (const Triangle& b : room) EXPECT_TRUE(planes.clear(planes.sides(a.v), planes.sides(b.v)));
+}
+
+// Random points on the surfaces of a room with a floating box and a tilted plate: whenever the
+// occluder planes call a pair clear, the ray between the points must be unobstructed (Embree, the
+// second method). Checked at the origin and geo-referenced (x ≈ 5e5 m, y ≈ 5.5e6 m).
+TEST(OccluderPlanes, NeverClearAPairThatARayFindsBlocked) {
+  for (const Vector3 offset : {Vector3{0, 0, 0}, Vector3{5e5, 5.5e6, 0}}) {
+    std::vector<Triangle> scene = test::box({0, 0, 0}, {6, 4, 3}, true);
+    for (const Triangle& t : test::box({2, 1.5, 1}, {3, 2.5, 1.8}, false)) scene.push_back(t);
+    scene.push_back(Triangle{{Point3{4, 0.5, 0.5}, Point3{5, 1.5, 0.8}, Point3{4.2, 2.5, 1.9}}});
+    for (Triangle& t : scene)
+      for (Point3& p : t.v) p = p + offset;
+    const OccluderPlanes planes(scene);
+    ASSERT_TRUE(planes.usable());
+    EXPECT_EQ(planes.planes(), 6u + 1u);  // the box's faces and the plate; no wall of the room
+    const Visibility vis(scene);
+    std::mt19937 rng(7);
+    std::uniform_int_distribution<std::size_t> pick(0, scene.size() - 1);
+    std::uniform_real_distribution<double> u(0, 1);
+    auto sample = [&](const Triangle& t) {
+      double a = u(rng), b = u(rng);
+      if (a + b > 1) a = 1 - a, b = 1 - b;
+      return barycentric(t.v[0], t.v[1], t.v[2], 1 - a - b, a, b);
+    };
+    int pairs = 0, clear = 0;
+    while (pairs < 4000) {
+      const Triangle& ta = scene[pick(rng)];
+      const Triangle& tb = scene[pick(rng)];
+      const Point3 a = sample(ta), b = sample(tb);
+      if (!(dot(b - a, ta.normal()) > 0 && dot(a - b, tb.normal()) > 0)) continue;  // not facing
+      ++pairs;
+      const Point3 pa[1] = {a}, pb[1] = {b};
+      if (!planes.clear(planes.sides(pa), planes.sides(pb))) continue;
+      ++clear;
+      EXPECT_TRUE(vis.visible(vis.lift(a, ta.normal()), vis.lift(b, tb.normal())))
+          << "pair " << pairs << " called clear but a ray is blocked";
+    }
+    EXPECT_GT(clear, pairs / 100) << "too few clear pairs for the check to mean much";  // 81 here
+  }
 }
 
 }  // namespace
