@@ -160,6 +160,26 @@ void Visibility::visible(std::span<const Segment> segments, std::span<std::uint8
   impl_->rays.fetch_add(segments.size(), std::memory_order_relaxed);
 }
 
+void Visibility::first_hits(std::span<const Segment> segments, std::span<int> hits) const {
+  set_ftz_daz();
+  constexpr std::size_t kStream = 256;
+  alignas(16) RTCRayHit rays[kStream];
+  RTCIntersectContext context;
+  for (std::size_t start = 0; start < segments.size(); start += kStream) {
+    const std::size_t m = std::min(kStream, segments.size() - start);
+    for (std::size_t k = 0; k < m; ++k) {
+      impl_->fill_ray(segments[start + k].from, segments[start + k].to, rays[k].ray);
+      rays[k].hit.geomID = RTC_INVALID_GEOMETRY_ID;
+      rays[k].hit.primID = RTC_INVALID_GEOMETRY_ID;
+    }
+    rtcInitIntersectContext(&context);
+    rtcIntersect1M(impl_->scene, &context, rays, static_cast<unsigned>(m), sizeof(RTCRayHit));
+    for (std::size_t k = 0; k < m; ++k)
+      hits[start + k] = rays[k].hit.geomID == RTC_INVALID_GEOMETRY_ID ? -1 : static_cast<int>(rays[k].hit.primID);
+  }
+  impl_->rays.fetch_add(segments.size(), std::memory_order_relaxed);
+}
+
 std::uint64_t Visibility::rays_traced() const { return impl_->rays.load(); }
 
 }  // namespace lambert

@@ -40,6 +40,9 @@ class Visibility {
   // Batch form (uses Embree's stream API): visible[k] = 1 if segment k is unobstructed.
   void visible(std::span<const Segment> segments, std::span<std::uint8_t> visible) const;
 
+  // Batch form of first_hit (Embree's stream API): hits[k] = first_hit(segments[k]).
+  void first_hits(std::span<const Segment> segments, std::span<int> hits) const;
+
   std::uint64_t rays_traced() const;  // total since construction (all threads)
 
  private:
