@@ -37,6 +37,8 @@ class OccluderPlanes {
   Sides sides(std::span<const Point3> points) const;
   // Whether nothing can lie between the two point sets (each the vertices of a convex patch, or a
   // single point): true only if usable() and they share a closed side of every occluder plane.
+  // Whether the points lie in front of every occluder plane: from there no back face can be seen.
+  bool in_front_of_all(const Sides& a) const { return usable_ && a.front == all_; }
   bool clear(const Sides& a, const Sides& b) const {
     if (!usable_) return false;
     for (int w = 0; w < kWords; ++w)

@@ -69,7 +69,8 @@ void patch_visible_fractions(const Patch& a, std::span<const std::size_t> partne
 // patch's corners (pulled 0.1 % towards the centroid: a straight shadow edge that crosses a triangle
 // separates its corners, so it cannot slip between interior samples) and to 16 interior samples
 // decide the common cases: all visible gives the unoccluded factor, none the value 0. The rays of all
-// patches go to Embree as one stream. Where they disagree, the visible part is computed exactly
+// patches go to Embree as one stream; patches that no occluder plane separates from the point
+// (occluder_planes.h) need none. Where they disagree, the visible part is computed exactly
 // (solver/exact_visibility.h): occluders projected onto the plane of the patch's input triangle and
 // subtracted with exact 2D Boolean operations, once per point and input triangle (`regions`), then
 // clipped to the patch. candidates: (patch, unoccluded factor > 0); each factor is replaced by the
@@ -78,13 +79,20 @@ using RegionCache = std::unordered_map<int, ExactVisibility::VisibleRegion>;
 constexpr int kProbeRays = 3 + 16;
 void visible_point_triangle_factors(const Point3& p, const Vector3& n, const std::vector<Patch>& patches,
                                     std::vector<std::pair<std::size_t, double>>& candidates, const Visibility& vis,
+                                    const OccluderPlanes& planes, const std::vector<OccluderPlanes::Sides>& sides,
                                     const ExactVisibility& exact, const std::vector<Triangle>& input_triangles,
                                     RegionCache& regions) {
   thread_local std::vector<Segment> rays;
   thread_local std::vector<std::uint8_t> visible;
+  thread_local std::vector<std::size_t> traced;  // candidates whose rays are in the stream
   const Point3 from = vis.lift(p, n);
-  rays.clear();
-  for (const auto& [j, f] : candidates) {
+  const Point3 point[1] = {p};
+  const OccluderPlanes::Sides point_sides = planes.sides(point);
+  rays.clear(), traced.clear();
+  for (std::size_t c = 0; c < candidates.size(); ++c) {
+    const std::size_t j = candidates[c].first;
+    if (!sides.empty() && planes.clear(point_sides, sides[j])) continue;  // wholly visible
+    traced.push_back(c);
     const Patch& patch = patches[j];
     const Triangle& t = patch.triangle;
     for (int c = 0; c < 3; ++c) {
@@ -95,9 +103,10 @@ void visible_point_triangle_factors(const Point3& p, const Vector3& n, const std
   }
   visible.resize(rays.size());
   vis.visible(rays, visible);
-  for (std::size_t c = 0; c < candidates.size(); ++c) {
+  for (std::size_t r = 0; r < traced.size(); ++r) {
+    const std::size_t c = traced[r];
     const Patch& patch = patches[candidates[c].first];
-    const int seen = static_cast<int>(std::count(visible.begin() + c * kProbeRays, visible.begin() + (c + 1) * kProbeRays, 1));
+    const int seen = static_cast<int>(std::count(visible.begin() + r * kProbeRays, visible.begin() + (r + 1) * kProbeRays, 1));
     double& factor = candidates[c].second;
     if (seen == kProbeRays) continue;
     if (seen == 0) {
@@ -444,6 +453,15 @@ Solution solve_dense(const Scene& scene, const SolveControl& control, const std:
   std::vector<Triangle> occluders(N);
   for (std::size_t i = 0; i < N; ++i) occluders[i] = sol.patches[i].triangle;
   const Visibility vis(occluders);
+  // Pairs that no occluder plane separates need no rays, links and probes alike (occluder_planes.h).
+  std::vector<Triangle> input_triangles;
+  for (const Surface& surface : scene.surfaces)
+    for (std::size_t t = 0; t < surface.mesh.triangles.size(); ++t) input_triangles.push_back(surface.mesh.triangle(t));
+  const OccluderPlanes occluder_planes(input_triangles);
+  std::vector<OccluderPlanes::Sides> sides(occluder_planes.usable() ? N : 0);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, sides.size(), 256), [&](const auto& range) {
+    for (std::size_t i = range.begin(); i != range.end(); ++i) sides[i] = occluder_planes.sides(sol.patches[i].triangle.v);
+  });
   sol.stats.time_visibility_s = seconds_since(t0);
 
   // ---- per-patch reflectance, emission and direct irradiance ----
@@ -543,15 +561,9 @@ Solution solve_dense(const Scene& scene, const SolveControl& control, const std:
   std::atomic<bool> cancelled{false};
   if (need_factors) {
     F.assign(N * N, 0.0);
-    // Links that no occluder plane separates from each other need no rays (occluder_planes.h).
-    std::vector<Triangle> input_triangles;
-    for (const Surface& surface : scene.surfaces)
-      for (std::size_t t = 0; t < surface.mesh.triangles.size(); ++t) input_triangles.push_back(surface.mesh.triangle(t));
-    const OccluderPlanes occluder_planes(input_triangles);
-    std::vector<OccluderPlanes::Sides> sides(occluder_planes.usable() ? N : 0);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, sides.size(), 256), [&](const auto& range) {
-      for (std::size_t i = range.begin(); i != range.end(); ++i) sides[i] = occluder_planes.sides(sol.patches[i].triangle.v);
-    });
+    // Whether any link of a patch's row needed rays (its row sum is then an estimate).
+    std::unique_ptr<std::atomic<char>[]> row_traced(new std::atomic<char>[N]);
+    for (std::size_t i = 0; i < N; ++i) row_traced[i].store(0, std::memory_order_relaxed);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, N, 1), [&](const auto& range) {
       for (std::size_t i = range.begin(); i != range.end(); ++i) {
         if (control.cancel && control.cancel->load(std::memory_order_relaxed)) {
@@ -585,6 +597,8 @@ Solution solve_dense(const Scene& scene, const SolveControl& control, const std:
           for (std::size_t l : traced) traced_partners.push_back(partners[l]);
           traced_fraction.resize(traced.size());
           patch_visible_fractions(a, traced_partners, sol.patches, vis, traced_fraction);
+          row_traced[i].store(1, std::memory_order_relaxed);
+          for (std::size_t j : traced_partners) row_traced[j].store(1, std::memory_order_relaxed);
           for (std::size_t r = 0; r < traced.size(); ++r) fraction[traced[r]] = traced_fraction[r];
         }
         std::size_t row_links = 0;
@@ -609,8 +623,19 @@ Solution solve_dense(const Scene& scene, const SolveControl& control, const std:
     // scaling G' = D G D (symmetric Sinkhorn balancing, D = 1 on open patches), which keeps
     // reciprocity A_i F_ij = A_j F_ji exact while closing every closed row: energy is conserved
     // and the furnace gives B = M/(1 − ρ) exactly. The size of the correction is reported.
+    // A patch whose links were all decided without rays has an exact row (the kernel), and if it lies
+    // in front of every occluder plane it sees no back face: its row sum tells whether its
+    // hemisphere is closed (to 1e-3, finer than the probe's rays resolve), and no probe is needed.
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, N, 16), [&](const auto& range) {
-      for (std::size_t i = range.begin(); i != range.end(); ++i) closed[i] = hemisphere_is_closed(sol.patches, i, vis);
+      for (std::size_t i = range.begin(); i != range.end(); ++i) {
+        if (!row_traced[i].load(std::memory_order_relaxed) && !sides.empty() &&
+            occluder_planes.in_front_of_all(sides[i])) {
+          const double sum = std::accumulate(&F[i * N], &F[i * N] + N, 0.0);
+          closed[i] = std::abs(1 - sum) <= 1e-3 ? 1 : 0;
+        } else {
+          closed[i] = hemisphere_is_closed(sol.patches, i, vis);
+        }
+      }
     });
     auto row_total = [&](std::size_t i, const std::vector<double>& d) {
       const double* row = &F[i * N];
@@ -788,11 +813,7 @@ Solution solve_dense(const Scene& scene, const SolveControl& control, const std:
   sol.probes.resize(scene.probes.size());
   for (auto& c : sol.contributions) c.probes.resize(scene.probes.size());
   // Exact partial visibility works on the input triangles (fewer, larger occluders than the patches).
-  std::vector<Triangle> input_triangles;
-  if (!scene.probes.empty())
-    for (const Surface& surface : scene.surfaces)
-      for (std::size_t t = 0; t < surface.mesh.triangles.size(); ++t) input_triangles.push_back(surface.mesh.triangle(t));
-  const ExactVisibility exact(input_triangles);
+  const ExactVisibility exact(scene.probes.empty() ? std::vector<Triangle>{} : input_triangles);
   std::vector<char> radiates(N, 0);
   for (std::size_t j = 0; j < N; ++j) {
     const double* b = &sol.radiosity[j * W];
@@ -826,7 +847,8 @@ Solution solve_dense(const Scene& scene, const SolveControl& control, const std:
           const double f = point_triangle_factor(p, probe.normal, sol.patches[j].triangle);
           if (f > 0) seen.emplace_back(j, f);
         }
-        visible_point_triangle_factors(p, probe.normal, sol.patches, seen, vis, exact, input_triangles, regions);
+        visible_point_triangle_factors(p, probe.normal, sol.patches, seen, vis, occluder_planes, sides, exact,
+                                       input_triangles, regions);
         auto accumulate = [&](const std::vector<double>& B, double* e) {
           for (const auto& [j, fv] : seen)
             for (std::size_t w = 0; w < W; ++w) e[w] += fv * B[j * W + w];

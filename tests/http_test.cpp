@@ -121,11 +121,19 @@ double expected_side(double cd) { return cd * 2 / std::pow(5.0, 1.5); }
 
 // The closed 4 m room of scenes/reference (reflectance 0.5, a point source inside) cut into about
 // `patches` patches: all of them exchange light, so the solve takes seconds.
-json slow_scene(int patches = 3072) {
+// Several seconds of solving: a closed room with a floating box (its shadows need rays; an empty
+// convex room needs none and solves 3072 patches in about a second).
+json slow_scene(int patches = 4096) {
   json scene = json::parse(read_text(kSource / "scenes/reference/closed-room-point.json"));
   scene.erase("expected");
   scene["spectrum"] = {{"mode", "spectral"}, {"from_nm", 400}, {"to_nm", 700}, {"step_nm", 20}};
   scene["meshing"] = {{"max_patch_area", 96.0 / patches}};
+  json box = {{"name", "box"}, {"material", scene["surfaces"][0]["material"]}};
+  box["mesh"] = {{"vertices", {{0.5, 0.5, 0.5}, {1.5, 0.5, 0.5}, {1.5, 1.5, 0.5}, {0.5, 1.5, 0.5},
+                               {0.5, 0.5, 1.5}, {1.5, 0.5, 1.5}, {1.5, 1.5, 1.5}, {0.5, 1.5, 1.5}}},
+                 {"triangles", {{0, 2, 1}, {0, 3, 2}, {4, 5, 6}, {4, 6, 7}, {0, 1, 5}, {0, 5, 4},
+                                {2, 3, 7}, {2, 7, 6}, {1, 2, 6}, {1, 6, 5}, {3, 0, 4}, {3, 4, 7}}}};
+  scene["surfaces"].push_back(box);
   return scene;
 }
 

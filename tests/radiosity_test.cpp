@@ -74,9 +74,34 @@ TEST(Radiosity, FurnaceConvexRoom) {
     const double expected = 1 / (1 - rho);
     double worst = 0;
     for (double B : sol.radiosity) worst = std::max(worst, std::abs(B - expected) / expected);
-    EXPECT_LT(worst, 1e-3) << "rho=" << rho;
+    EXPECT_LT(worst, 1e-6) << "rho=" << rho;
     EXPECT_LT(sol.stats.max_closure_error, 1e-5);  // convex: no occlusion, the kernel alone closes
+    EXPECT_GT(sol.stats.max_closure_error, 0.0);   // the rows were found closed (by their sums)
     EXPECT_LT(sol.stats.max_reciprocity_error, 1e-4);
+    // Nothing can occlude anything in a convex room: no link and no hemisphere probe traces a ray.
+    EXPECT_EQ(sol.stats.links_clear, sol.stats.links);
+    EXPECT_EQ(sol.stats.rays, 0u);
+  }
+}
+
+TEST(Radiosity, ProbesInAConvexRoomNeedNoRays) {
+  // A black 6 × 4 × 3 m room whose ceiling emits M = 1: a probe facing up at height z receives
+  // M F(point → ceiling), Howell B-3 by corner decomposition, without a ray (nothing can occlude).
+  SceneBuilder b;
+  const int black = b.material("black", 0.0);
+  std::vector<Triangle> room = box({0, 0, 0}, {6, 4, 3}, true);
+  const std::vector<Triangle> ceiling(room.begin() + 2, room.begin() + 4);  // box(): z = hi second
+  room.erase(room.begin() + 2, room.begin() + 4);
+  b.surface("room", black, room);
+  b.surface("ceiling", black, ceiling, 1.0);
+  const std::vector<Point3> points = {{0.5, 0.5, 0.01}, {3, 2, 1}, {5.9, 3.9, 2.5}, {1, 3, 0.8}};
+  for (const Point3& p : points) b.probe("probe", p, {0, 0, 1});
+  const Solution sol = solve(b.scene());
+  EXPECT_EQ(sol.stats.rays, 0u);
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    const Point3& p = points[k];
+    const double exact = test::point_under_rectangle(p.x, p.y, 3 - p.z, 0, 6, 0, 4);
+    EXPECT_NEAR(sol.probes[k].irradiance[0], exact, 1e-9 * exact) << "probe " << k;
   }
 }
 
