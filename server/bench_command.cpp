@@ -15,6 +15,7 @@
 #include <map>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <random>
 #include <stdexcept>
 
 #include "server/bench_plot.h"
@@ -22,6 +23,8 @@
 #include "solver/closed_forms.h"
 #include "solver/radiosity.h"
 #include "solver/report.h"
+#include "solver/visibility.h"
+#include "solver/visible_fraction.h"
 
 namespace lambert {
 namespace {
@@ -290,6 +293,86 @@ int run_scaling(double max_patches, const std::string& json_path) {
   return 0;
 }
 
+// The cost of a visibility ray in the solver against Embree's raw stream throughput on the same
+// occluders: the solver's link rays (sample points, kernel weights, rtcOccluded1M streams and the
+// votes) per thread-second, and random segments between points of facing patches traced by
+// Visibility::visible on a span (rtcOccluded1M in streams of 256), one thread, median of 3: random
+// pairs (incoherent) and rows (one patch to all others in order, as the solver traces: coherent).
+// The ratio is the solver's cost over the coherent raw cost.
+json run_ray_cost() {
+  struct RayCase { std::string name; json scene; };
+  std::vector<RayCase> scenes;
+  {
+    json s = {{"name", "cube-room"}, {"spectrum", {{"mode", "spectral"}, {"wavelengths_nm", {555}}}},
+              {"materials", {{"grey", {{"reflectance", 0.5}}}}}, {"solver", {{"method", "dense"}}},
+              {"meshing", {{"max_patch_area", 2 * (24 + 18 + 12 + 6) / 3000.0}}}};
+    s["surfaces"] = {{{"name", "room"}, {"material", "grey"}, {"mesh", box({0, 0, 0}, {6, 4, 3}, true)}},
+                     {{"name", "cube"}, {"material", "grey"}, {"mesh", box({2.5, 1.5, 1}, {3.5, 2.5, 2}, false)}},
+                     {{"name", "panel"}, {"material", "grey"}, {"polygon", rect({2.5, 1.5, 2.999}, {0, 1, 0}, {1, 0, 0})},
+                      {"emission", {{"radiance", 1.0}}}}};
+    scenes.push_back({"cube-room", s});
+  }
+  {
+    json s = office_furnace().scene;
+    s["solver"] = {{"method", "dense"}};
+    s["meshing"] = {{"max_patch_area", office_furnace().total_area / 3000}};
+    scenes.push_back({"office-50-desks", s});
+  }
+  std::printf("\n%-18s %8s %11s %14s %14s %14s %7s\n", "ray cost", "patches", "link_rays", "solver_ns/ray",
+              "raw_random_ns", "raw_rows_ns", "ratio");
+  json rows = json::array();
+  for (const RayCase& c : scenes) {
+    const DecodeResult decoded = decode_scene(c.scene.dump(), FileAccess{FileAccess::Policy::Deny, {}, {}});
+    if (!decoded.ok()) throw std::runtime_error(c.name + ": " + format_errors(decoded.errors));
+    const Solution sol = solve(*decoded.scene);
+    const double solver_ns = sol.stats.link_rays > 0 ? 1e9 * sol.stats.link_ray_thread_s / sol.stats.link_rays : 0;
+    std::vector<Triangle> occluders;
+    for (const Patch& p : sol.patches) occluders.push_back(p.triangle);
+    const Visibility vis(occluders);
+    std::mt19937 rng(1);
+    std::uniform_int_distribution<std::size_t> pick(0, sol.patches.size() - 1);
+    std::uniform_int_distribution<int> sample(0, kMaxVisibilitySamples - 1);
+    std::vector<Segment> segments;
+    while (segments.size() < 2'000'000) {
+      const Patch& a = sol.patches[pick(rng)];
+      const Patch& b = sol.patches[pick(rng)];
+      const Point3 p = vis.lift(visibility_sample(a.triangle, sample(rng)), a.normal);
+      const Point3 q = vis.lift(visibility_sample(b.triangle, sample(rng)), b.normal);
+      if (dot(q - p, a.normal) > 0 && dot(p - q, b.normal) > 0) segments.push_back({p, q});
+    }
+    // Coherent: one shooter patch to every facing patch in mesh order (the solver's row pattern).
+    std::vector<Segment> rows_of_rays;
+    while (rows_of_rays.size() < 2'000'000) {
+      const Patch& a = sol.patches[pick(rng)];
+      for (const Patch& b : sol.patches) {
+        const Point3 p = vis.lift(visibility_sample(a.triangle, sample(rng)), a.normal);
+        const Point3 q = vis.lift(visibility_sample(b.triangle, sample(rng)), b.normal);
+        if (dot(q - p, a.normal) > 0 && dot(p - q, b.normal) > 0) rows_of_rays.push_back({p, q});
+      }
+    }
+    auto raw_ns = [&](const std::vector<Segment>& rays) {
+      std::vector<std::uint8_t> visible(rays.size());
+      std::vector<double> runs;
+      for (int r = 0; r < 3; ++r) {
+        const auto t0 = std::chrono::steady_clock::now();
+        vis.visible(rays, visible);
+        runs.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+      }
+      std::sort(runs.begin(), runs.end());
+      return 1e9 * runs[1] / rays.size();
+    };
+    const double random_ns = raw_ns(segments), coherent_ns = raw_ns(rows_of_rays);
+    const double ratio = coherent_ns > 0 ? solver_ns / coherent_ns : 0;
+    std::printf("%-18s %8zu %11llu %14.1f %14.1f %14.1f %7.2f\n", c.name.c_str(), sol.stats.patches,
+                static_cast<unsigned long long>(sol.stats.link_rays), solver_ns, random_ns, coherent_ns, ratio);
+    std::fflush(stdout);
+    rows.push_back({{"scene", c.name}, {"patches", sol.stats.patches}, {"link_rays", sol.stats.link_rays},
+                    {"solver_ns_per_ray_per_thread", solver_ns}, {"embree_random_ns_per_ray_one_thread", random_ns},
+                    {"embree_coherent_ns_per_ray_one_thread", coherent_ns}, {"ratio_to_coherent", ratio}});
+  }
+  return rows;
+}
+
 double peak_rss_mb() {
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
@@ -358,8 +441,15 @@ int run_bench(const std::vector<std::string>& args) {
       series.back().points.push_back({seconds, error});
     }
   }
+  json ray_cost;
+  try {
+    ray_cost = run_ray_cost();
+  } catch (const std::runtime_error& e) {
+    std::cerr << "lambert bench: " << e.what() << "\n";
+    return 1;
+  }
   if (!json_path.empty()) {
-    std::ofstream(json_path) << json{{"lambert_bench", 1}, {"rows", rows}}.dump(1) << "\n";
+    std::ofstream(json_path) << json{{"lambert_bench", 1}, {"rows", rows}, {"ray_cost", ray_cost}}.dump(1) << "\n";
   }
   if (!plot_path.empty()) {
     try {

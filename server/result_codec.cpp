@@ -178,6 +178,8 @@ std::string encode_result(const Scene& scene, const Solution& sol, const Report&
       {"rays", st.rays},
       {"exact_visibility_evaluations", st.exact_visibility_evaluations},
       {"links_clear_without_rays", st.links_clear},
+      {"link_rays", st.link_rays},
+      {"link_ray_thread_s", st.link_ray_thread_s},
       {"iterations", st.iterations},
       {"residual", st.residual},
       {"spectral_systems_solved", st.spectral_systems_solved},

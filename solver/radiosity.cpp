@@ -50,9 +50,10 @@ double link_weight(const Point3& p, const Vector3& np, const Point3& q, const Ve
 
 // Visible fractions between patch a and each of `partners` (indices into `patches`); each ray weighted
 // by the differential kernel at its ends (visible_fraction.h, traced as one stream per round).
-void patch_visible_fractions(const Patch& a, std::span<const std::size_t> partners, const std::vector<Patch>& patches,
-                             const Visibility& vis, std::span<double> fractions) {
-  weighted_visible_fractions(
+std::size_t patch_visible_fractions(const Patch& a, std::span<const std::size_t> partners,
+                                    const std::vector<Patch>& patches, const Visibility& vis,
+                                    std::span<double> fractions) {
+  return weighted_visible_fractions(
       vis, partners.size(),
       [&](std::size_t l, int k) {
         const Patch& b = patches[partners[l]];
@@ -558,6 +559,7 @@ Solution solve_dense(const Scene& scene, const SolveControl& control, const std:
   std::vector<double> row_sum(N, 0.0);
   std::vector<char> closed(N, 0);  // hemisphere probe per patch (visible_fraction.h, probe_hemisphere)
   std::atomic<std::size_t> rows_done{0}, links{0}, links_clear{0};
+  std::atomic<std::uint64_t> link_rays{0}, link_ray_ns{0};  // rays of links and the thread time spent on them
   std::atomic<bool> cancelled{false};
   if (need_factors) {
     F.assign(N * N, 0.0);
@@ -596,7 +598,10 @@ Solution solve_dense(const Scene& scene, const SolveControl& control, const std:
           traced_partners.clear();
           for (std::size_t l : traced) traced_partners.push_back(partners[l]);
           traced_fraction.resize(traced.size());
-          patch_visible_fractions(a, traced_partners, sol.patches, vis, traced_fraction);
+          const auto t_rays = Clock::now();
+          link_rays += patch_visible_fractions(a, traced_partners, sol.patches, vis, traced_fraction);
+          link_ray_ns += static_cast<std::uint64_t>(
+              std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - t_rays).count());
           row_traced[i].store(1, std::memory_order_relaxed);
           for (std::size_t j : traced_partners) row_traced[j].store(1, std::memory_order_relaxed);
           for (std::size_t r = 0; r < traced.size(); ++r) fraction[traced[r]] = traced_fraction[r];
@@ -687,6 +692,8 @@ Solution solve_dense(const Scene& scene, const SolveControl& control, const std:
   }
   sol.stats.links = links;
   sol.stats.links_clear = links_clear;
+  sol.stats.link_rays = link_rays;
+  sol.stats.link_ray_thread_s = 1e-9 * static_cast<double>(link_ray_ns.load());
   sol.stats.time_form_factors_s = seconds_since(t0);
   report(0.85);
 

@@ -37,6 +37,9 @@ struct SolveStats {
   std::uint64_t rays = 0;
   std::uint64_t exact_visibility_evaluations = 0;  // exact Boolean evaluations (probe point × input triangle)
   std::uint64_t links_clear = 0;       // links wholly visible by the occluder planes: no rays (occluder_planes.h)
+  std::uint64_t link_rays = 0;         // rays traced for patch-pair links (dense method)
+  double link_ray_thread_s = 0;        // thread time spent on them, summed over threads: sample points,
+                                       // kernel weights, Embree and the votes (the per-ray cost)
   int iterations = 0;                  // largest over the spectral systems
   double residual = 0;                 // largest final relative residual
   int spectral_systems_solved = 0;

@@ -75,9 +75,10 @@ double weighted_visible_fraction(const Visibility& vis, Endpoints&& endpoints, W
 // The same for `count` links at once (one receiver's row of links): each round's rays of all links
 // still undecided go to Embree together as a stream (Visibility::visible on a span), which traces
 // coherent rays about twice as fast as one call per ray. endpoints(l, k) and weight(l, from, to) as
-// above for link l; fractions[l] receives the result, equal to weighted_visible_fraction's.
+// above for link l; fractions[l] receives the result, equal to weighted_visible_fraction's. Returns
+// the number of rays traced.
 template <class Endpoints, class Weight>
-void weighted_visible_fractions(const Visibility& vis, std::size_t count, Endpoints&& endpoints, Weight&& weight,
+std::size_t weighted_visible_fractions(const Visibility& vis, std::size_t count, Endpoints&& endpoints, Weight&& weight,
                                 std::span<double> fractions, int first_round = 4) {
   thread_local std::vector<VisibilityTally> tallies;
   thread_local std::vector<std::size_t> open, still_open, ray_link;
@@ -88,6 +89,7 @@ void weighted_visible_fractions(const Visibility& vis, std::size_t count, Endpoi
   open.resize(count);
   for (std::size_t l = 0; l < count; ++l) open[l] = l;
   int k_begin = 0;
+  std::size_t traced = 0;
   for (int round_end : visibility_rounds(first_round)) {
     segments.clear(), weights.clear(), ray_link.clear();
     for (std::size_t l : open)
@@ -101,6 +103,7 @@ void weighted_visible_fractions(const Visibility& vis, std::size_t count, Endpoi
       }
     visible.resize(segments.size());
     vis.visible(segments, visible);
+    traced += segments.size();
     for (std::size_t r = 0; r < segments.size(); ++r) tallies[ray_link[r]].add(weights[r], visible[r] != 0);
     still_open.clear();
     for (std::size_t l : open)
@@ -110,6 +113,7 @@ void weighted_visible_fractions(const Visibility& vis, std::size_t count, Endpoi
     if (open.empty()) break;
   }
   for (std::size_t l = 0; l < count; ++l) fractions[l] = tallies[l].fraction();
+  return traced;
 }
 
 // Probes a triangle's hemisphere (unit normal n) with `rays` cosine-distributed rays: a rank-1 lattice
