@@ -134,21 +134,29 @@ char probe_hemisphere(const Triangle& tri, const Vector3& n, std::size_t seed, i
   constexpr double kTwoPi = 6.283185307179586;
   const double shift1 = std::fmod((seed + 1) * 0.7548776662466927, 1.0);
   const double shift2 = std::fmod((seed + 1) * 0.5698402909980532, 1.0);
-  // Rays go to Embree in growing streams (16, 128, then the rest): an open patch is usually found
-  // by the first few, a closed one needs them all.
+  auto ray = [&](int k) {
+    const double u1 = std::fmod((k + 0.5) / rays + shift1, 1.0);
+    const double u2 = std::fmod(k * kGolden + shift2, 1.0);
+    const double r = std::sqrt(u1), phi = kTwoPi * u2;  // cosine-weighted (Malley)
+    const Vector3 d = t * (r * std::cos(phi)) + s * (r * std::sin(phi)) + n * std::sqrt(1 - u1);
+    const Point3 from = vis.lift(visibility_sample(tri, k % kMaxVisibilitySamples), n);
+    return Segment{from, from + d * reach};
+  };
+  // The first 16 rays one at a time (an open patch is usually found by one of the first few), the
+  // rest in streams (a closed patch needs them all, and streams trace them faster).
+  int back = 0;
+  const int single = std::min(rays, 16);
+  for (int k = 0; k < single; ++k) {
+    const Segment seg = ray(k);
+    const int hit = vis.first_hit(seg.from, seg.to);
+    if (hit < 0) return 0;
+    back += dot(normal_of(hit), seg.to - seg.from) >= 0;
+  }
   thread_local std::vector<Segment> segments;
   thread_local std::vector<int> hits;
-  int back = 0;
-  for (int begin = 0, end = std::min(rays, 16); begin < rays; begin = end, end = std::min(rays, end * 8)) {
+  for (int begin = single, end = std::min(rays, 128); begin < rays; begin = end, end = rays) {
     segments.clear();
-    for (int k = begin; k < end; ++k) {
-      const double u1 = std::fmod((k + 0.5) / rays + shift1, 1.0);
-      const double u2 = std::fmod(k * kGolden + shift2, 1.0);
-      const double r = std::sqrt(u1), phi = kTwoPi * u2;  // cosine-weighted (Malley)
-      const Vector3 d = t * (r * std::cos(phi)) + s * (r * std::sin(phi)) + n * std::sqrt(1 - u1);
-      const Point3 from = vis.lift(visibility_sample(tri, k % kMaxVisibilitySamples), n);
-      segments.push_back({from, from + d * reach});
-    }
+    for (int k = begin; k < end; ++k) segments.push_back(ray(k));
     hits.resize(segments.size());
     vis.first_hits(segments, hits);
     for (std::size_t r = 0; r < segments.size(); ++r) {
