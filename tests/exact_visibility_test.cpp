@@ -289,8 +289,9 @@ TEST(OccluderPlanes, AConvexRoomHasNoneAndEveryPairIsClear) {
 }
 
 // Random points on the surfaces of a room with a floating box and a tilted plate: whenever the
-// occluder planes call a pair clear, the ray between the points must be unobstructed (Embree, the
-// second method). Checked at the origin and geo-referenced (x ≈ 5e5 m, y ≈ 5.5e6 m).
+// occluder planes call a pair clear (same side of every occluder plane, or outside the extent of its
+// occluders), the ray between the points must be unobstructed (Embree, the second method). Checked
+// at the origin and geo-referenced (x ≈ 5e5 m, y ≈ 5.5e6 m).
 TEST(OccluderPlanes, NeverClearAPairThatARayFindsBlocked) {
   for (const Vector3 offset : {Vector3{0, 0, 0}, Vector3{5e5, 5.5e6, 0}}) {
     std::vector<Triangle> scene = test::box({0, 0, 0}, {6, 4, 3}, true);
@@ -323,7 +324,7 @@ TEST(OccluderPlanes, NeverClearAPairThatARayFindsBlocked) {
       EXPECT_TRUE(vis.visible(vis.lift(a, ta.normal()), vis.lift(b, tb.normal())))
           << "pair " << pairs << " called clear but a ray is blocked";
     }
-    EXPECT_GT(clear, pairs / 100) << "too few clear pairs for the check to mean much";  // 81 here
+    EXPECT_GT(clear, pairs / 2) << "too few clear pairs for the check to mean much";  // 2 674 of 4 000
   }
 }
 
