@@ -96,8 +96,8 @@ void visible_point_triangle_factors(const Point3& p, const Vector3& n, const std
     traced.push_back(c);
     const Patch& patch = patches[j];
     const Triangle& t = patch.triangle;
-    for (int c = 0; c < 3; ++c) {
-      const Point3 corner = barycentric(t.v[c], t.v[(c + 1) % 3], t.v[(c + 2) % 3], 0.998, 0.001, 0.001);
+    for (int v = 0; v < 3; ++v) {
+      const Point3 corner = barycentric(t.v[v], t.v[(v + 1) % 3], t.v[(v + 2) % 3], 0.998, 0.001, 0.001);
       rays.push_back({from, vis.lift(corner, patch.normal)});
     }
     for (int k = 0; k < 16; ++k) rays.push_back({from, vis.lift(visibility_sample(t, k), patch.normal)});
