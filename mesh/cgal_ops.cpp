@@ -407,6 +407,145 @@ MeshHealth check_mesh(const TriangleMesh& mesh) {
   return health;
 }
 
+// ---- merge_sliver_regions -----------------------------------------------------------------
+
+namespace {
+
+// Drops the vertices of a closed loop that lie within eps of the line through their neighbours
+// (repeatedly, as a dropped vertex changes its neighbours' lines).
+Loop2d without_collinear_vertices(Loop2d loop, double eps) {
+  bool changed = true;
+  while (changed && loop.size() > 3) {
+    changed = false;
+    for (std::size_t i = 0; i < loop.size() && loop.size() > 3; ++i) {
+      const Point2d& a = loop[(i + loop.size() - 1) % loop.size()];
+      const Point2d& b = loop[i];
+      const Point2d& c = loop[(i + 1) % loop.size()];
+      const double dx = c[0] - a[0], dy = c[1] - a[1];
+      const double len = std::hypot(dx, dy);
+      const double off = len > 0 ? std::abs(dx * (b[1] - a[1]) - dy * (b[0] - a[0])) / len
+                                 : std::hypot(b[0] - a[0], b[1] - a[1]);
+      const bool between = (b[0] - a[0]) * dx + (b[1] - a[1]) * dy >= 0 && (c[0] - b[0]) * dx + (c[1] - b[1]) * dy >= 0;
+      if (off <= eps && between) {
+        loop.erase(loop.begin() + static_cast<std::ptrdiff_t>(i));
+        changed = true;
+        --i;
+      }
+    }
+  }
+  return loop;
+}
+
+}  // namespace
+
+SliverMerge merge_sliver_regions(const TriangleMesh& mesh, double tolerance) {
+  SliverMerge out;
+  out.mesh = mesh;
+  Bounds3 box;
+  for (const Point3& p : mesh.vertices) box.add(p);
+  if (box.empty()) return out;
+  const double eps = tolerance * std::max(length(box.diagonal()), 1e-300);
+  const Point3 centre = box.center();
+  // Planes of the triangles (quantised unit normal and offset from the centre), and which hold slivers.
+  struct Region {
+    Vector3 n;
+    double d = 0;
+    std::vector<int> triangles;
+    bool has_sliver = false;
+  };
+  std::map<std::tuple<long long, long long, long long, long long>, Region> regions;
+  auto q = [](double x, double unit) { return static_cast<long long>(std::llround(x / unit)); };
+  for (int t = 0; t < static_cast<int>(mesh.triangles.size()); ++t) {
+    const Triangle tri = mesh.triangle(t);
+    const double area = tri.area();
+    if (!(area > 0) || !std::isfinite(area)) continue;
+    const Vector3 n = tri.normal();
+    const double d = dot(n, tri.v[0] - centre);
+    Region& r = regions.try_emplace({q(n.x, 1e-9), q(n.y, 1e-9), q(n.z, 1e-9), q(d, eps)}, Region{n, d, {}, false})
+                    .first->second;
+    r.triangles.push_back(t);
+    const double longest = tri.max_edge_length();
+    const bool sliver = longest * longest > kSliverElongation * area;
+    r.has_sliver |= sliver;
+    out.slivers += sliver;
+  }
+  if (out.slivers == 0) return out;
+  std::vector<char> replaced(mesh.triangles.size(), 0);
+  std::vector<std::array<int, 3>> added;
+  for (auto& [key, region] : regions) {
+    if (!region.has_sliver || region.triangles.size() < 2) continue;
+    const Vector3& n = region.n;
+    const Vector3 u = normalize(std::abs(n.x) < 0.9 ? cross(n, Vector3{1, 0, 0}) : cross(n, Vector3{0, 1, 0}));
+    const Vector3 v = cross(n, u);  // (u, v, n) right-handed: counter-clockwise about n is CCW in (u, v)
+    std::vector<Loop2d> parts;
+    for (int t : region.triangles) {
+      const Triangle tri = mesh.triangle(t);
+      Loop2d loop;
+      for (const Point3& p : tri.v) loop.push_back({dot(u, p - centre), dot(v, p - centre)});
+      parts.push_back(std::move(loop));
+    }
+    std::vector<std::array<int, 3>> pieces;
+    std::vector<Point3> points;
+    bool ok = true;
+    try {
+    for (const std::vector<Loop2d>& polygon : convex_union(parts)) {
+      CDT cdt;
+      std::map<CDT::Vertex_handle, int> index;  // into `points`
+      for (const Loop2d& raw : polygon) {
+        const Loop2d loop = without_collinear_vertices(raw, eps);
+        if (loop.size() < 3) continue;
+        std::vector<CDT::Vertex_handle> handles;
+        for (const Point2d& p : loop) {
+          CDT::Vertex_handle h = cdt.insert(P2(p[0], p[1]));
+          if (index.try_emplace(h, static_cast<int>(points.size())).second)
+            points.push_back(centre + u * p[0] + v * p[1] + n * region.d);
+          handles.push_back(h);
+        }
+        for (std::size_t k = 0; k < handles.size(); ++k) {
+          if (handles[k] == handles[(k + 1) % handles.size()]) continue;
+          cdt.insert_constraint(handles[k], handles[(k + 1) % handles.size()]);
+        }
+      }
+      mark_domains(cdt);
+      for (CDT::Face_handle f : cdt.finite_face_handles()) {
+        if (!f->info().in_domain()) continue;
+        std::array<int, 3> tri{};
+        for (int k = 0; k < 3; ++k) {
+          const auto it = index.find(f->vertex(k));
+          if (it == index.end()) {
+            ok = false;  // a vertex the triangulation made up (constraints crossing): keep the input
+            break;
+          }
+          tri[k] = it->second;
+        }
+        if (ok) pieces.push_back(tri);
+      }
+    }
+    } catch (const std::exception&) {
+      ok = false;  // CGAL refused the boundary (crossing constraints after rounding): keep the input
+    }
+    // Keep the region as it was unless the new triangles cover the same area.
+    double before = 0, after = 0;
+    for (int t : region.triangles) before += mesh.triangle(t).area();
+    for (const auto& tri : pieces)
+      after += Triangle{{points[tri[0]], points[tri[1]], points[tri[2]]}}.area();
+    // ... and unless that takes fewer triangles (a strip that is one thin rectangle stays as it is).
+    if (!ok || pieces.empty() || pieces.size() >= region.triangles.size() || std::abs(after - before) > 1e-9 * before)
+      continue;
+    const int base = static_cast<int>(out.mesh.vertices.size());
+    out.mesh.vertices.insert(out.mesh.vertices.end(), points.begin(), points.end());
+    for (const auto& tri : pieces) added.push_back({base + tri[0], base + tri[1], base + tri[2]});
+    for (int t : region.triangles) replaced[t] = 1;
+    ++out.regions;
+  }
+  if (out.regions == 0) return out;
+  out.mesh.triangles.clear();
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
+    if (!replaced[t]) out.mesh.triangles.push_back(mesh.triangles[t]);
+  out.mesh.triangles.insert(out.mesh.triangles.end(), added.begin(), added.end());
+  return out;
+}
+
 // ---- imprint_contacts ---------------------------------------------------------------------
 
 namespace {

@@ -37,6 +37,22 @@ struct MeshHealth {
 // Health report of a mesh (CGAL Polygon Mesh Processing). Indices refer to mesh.triangles.
 MeshHealth check_mesh(const TriangleMesh& mesh);
 
+// Re-triangulates the planar regions of a mesh that contain slivers (triangles whose longest edge
+// squared exceeds kSliverElongation times their area: about 20:1 and thinner, as CAD exports cut a
+// wall into strips). The coplanar, same-facing triangles of such a region are joined exactly (CGAL
+// Polygon_set_2), collinear boundary vertices dropped, and the union triangulated again (constrained
+// Delaunay), so that patches follow the region's shape instead of its strips: a 3 m × 4 cm strip
+// would otherwise carry one radiosity over 3 m, and every strip would be a separate occluder and
+// input triangle. Regions without slivers are left as they are. Orientation is kept; `tolerance`
+// (relative to the mesh's bounding-box diagonal) decides coplanarity and collinearity.
+inline constexpr double kSliverElongation = 40;
+struct SliverMerge {
+  TriangleMesh mesh;
+  std::size_t slivers = 0;  // sliver triangles found
+  std::size_t regions = 0;  // planar regions re-triangulated
+};
+SliverMerge merge_sliver_regions(const TriangleMesh& mesh, double tolerance = 1e-9);
+
 struct ContactImprint {
   std::vector<TriangleMesh> meshes;  // the input meshes, with cut triangles replaced by their pieces
   std::size_t triangles_cut = 0;     // input triangles that were cut

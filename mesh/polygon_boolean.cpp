@@ -59,4 +59,24 @@ std::vector<Loop2d> convex_difference(const Loop2d& base, std::span<const Loop2d
   return loops;
 }
 
+std::vector<std::vector<Loop2d>> convex_union(std::span<const Loop2d> parts) {
+  std::vector<Polygon2> polygons;
+  for (const Loop2d& part : parts) {
+    Polygon2 polygon = convex_polygon(part);
+    if (!polygon.is_empty()) polygons.push_back(std::move(polygon));
+  }
+  if (polygons.empty()) return {};
+  PolygonSet2 all;
+  all.join(polygons.begin(), polygons.end());
+  std::vector<PolygonWithHoles2> pieces;
+  all.polygons_with_holes(std::back_inserter(pieces));
+  std::vector<std::vector<Loop2d>> out;
+  for (const PolygonWithHoles2& piece : pieces) {
+    std::vector<Loop2d>& loops = out.emplace_back();
+    loops.push_back(to_loop(piece.outer_boundary()));
+    for (auto hole = piece.holes_begin(); hole != piece.holes_end(); ++hole) loops.push_back(to_loop(*hole));
+  }
+  return out;
+}
+
 }  // namespace lambert

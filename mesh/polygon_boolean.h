@@ -20,4 +20,8 @@ using Loop2d = std::vector<Point2d>;
 // to double only on output.
 std::vector<Loop2d> convex_difference(const Loop2d& base, std::span<const Loop2d> cutters);
 
+// The union of the convex hulls of `parts`, as polygons with holes: each entry is an outer boundary
+// (counter-clockwise) followed by its holes (clockwise). Exact, like convex_difference.
+std::vector<std::vector<Loop2d>> convex_union(std::span<const Loop2d> parts);
+
 }  // namespace lambert

@@ -319,9 +319,19 @@ double remove_contact_pieces(ContactImprint& imprint) {
 Solution solve(const Scene& scene, const SolveControl& control) {
   // Contacts first: surfaces are cut where other surfaces touch or cross them (mesh_ops.h,
   // imprint_contacts), so that no patch straddles a box's footprint on a floor.
+  // Slivers first: planar regions cut into thin strips are joined and triangulated again
+  // (mesh_ops.h, merge_sliver_regions), so that patches follow the regions and not the strips.
   std::vector<TriangleMesh> meshes;
   meshes.reserve(scene.surfaces.size());
-  for (const Surface& s : scene.surfaces) meshes.push_back(s.mesh);
+  std::size_t slivers = 0, sliver_regions = 0;
+  std::vector<std::string> sliver_surfaces;
+  for (const Surface& s : scene.surfaces) {
+    SliverMerge merged = merge_sliver_regions(s.mesh);
+    slivers += merged.regions > 0 ? merged.slivers : 0;
+    sliver_regions += merged.regions;
+    if (merged.regions > 0 && sliver_surfaces.size() < 3) sliver_surfaces.push_back("\"" + s.name + "\"");
+    meshes.push_back(std::move(merged.mesh));
+  }
   ContactImprint imprint = imprint_contacts(meshes);
   const double contact_area = remove_contact_pieces(imprint);
   std::vector<std::string> overlap_warnings;
@@ -335,9 +345,18 @@ Solution solve(const Scene& scene, const SolveControl& control) {
   }
   auto finish = [&](Solution sol) {
     sol.warnings.insert(sol.warnings.end(), overlap_warnings.begin(), overlap_warnings.end());
+    sol.stats.sliver_regions_remeshed = sliver_regions;
+    if (sliver_regions > 0) {
+      std::string names;
+      for (const std::string& n : sliver_surfaces) names += (names.empty() ? "" : ", ") + n;
+      sol.warnings.push_back(std::to_string(slivers) + " sliver triangles (thinner than about 1:20) in " +
+                             std::to_string(sliver_regions) + " planar regions (surfaces " + names +
+                             (sliver_surfaces.size() < sliver_regions ? ", ..." : "") +
+                             ") were joined and triangulated again: patches follow the regions, not the strips");
+    }
     return sol;
   };
-  if (imprint.triangles_cut == 0) return finish(solve_method(scene, control));
+  if (imprint.triangles_cut == 0 && sliver_regions == 0) return finish(solve_method(scene, control));
   Scene cut = scene;
   for (std::size_t s = 0; s < cut.surfaces.size(); ++s) cut.surfaces[s].mesh = std::move(imprint.meshes[s]);
   Solution sol = solve_method(cut, control);

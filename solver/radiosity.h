@@ -51,6 +51,7 @@ struct SolveStats {
          time_probes_s = 0, time_total_s = 0;
   double max_patch_area_m2 = 0;
   std::size_t contact_triangles_cut = 0;  // input triangles cut along other surfaces' contact lines
+  std::size_t sliver_regions_remeshed = 0;  // planar regions of slivers joined and triangulated again
   double contact_area_m2 = 0;            // face-to-face contact area removed (both faces counted)
   std::size_t enclosed_patches = 0;      // patches inside closed solids, left out of the result
   int adaptive_rounds = 0;             // meshing.adaptive: how many refine-and-solve rounds ran

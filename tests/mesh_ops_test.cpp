@@ -683,5 +683,81 @@ TEST(ImprintContacts, CoplanarAndDistantSurfacesAndOwnNeighboursDoNotCut) {
   EXPECT_NEAR(r.overlaps[0].area, 0.09, 1e-12);
 }
 
+// A w × h rectangle in the plane z = z0 cut into n strips along x (2 triangles each), facing +z or −z.
+TriangleMesh strips(double w, double h, int n, double z0, bool up) {
+  TriangleMesh m;
+  for (int i = 0; i <= n; ++i) {
+    m.vertices.push_back({w * i / n, 0, z0});
+    m.vertices.push_back({w * i / n, h, z0});
+  }
+  for (int i = 0; i < n; ++i) {
+    const int a = 2 * i, b = 2 * i + 2, c = 2 * i + 3, d = 2 * i + 1;
+    if (up) {
+      m.triangles.push_back({a, b, c});
+      m.triangles.push_back({a, c, d});
+    } else {
+      m.triangles.push_back({a, c, b});
+      m.triangles.push_back({a, d, c});
+    }
+  }
+  return m;
+}
+
+TEST(MergeSliverRegions, StripsOfARectangleBecomeTheRectangle) {
+  for (bool up : {true, false}) {
+    const TriangleMesh mesh = strips(0.04 * 100, 3, 100, 1.5, up);  // aspect 75 strips
+    const SliverMerge r = merge_sliver_regions(mesh);
+    EXPECT_EQ(r.slivers, 200u);
+    EXPECT_EQ(r.regions, 1u);
+    EXPECT_EQ(r.mesh.triangles.size(), 2u);
+    EXPECT_NEAR(mesh_area(r.mesh), 12.0, 1e-12);
+    for (std::size_t t = 0; t < r.mesh.triangles.size(); ++t) {
+      const Triangle tri = r.mesh.triangle(t);
+      EXPECT_NEAR(tri.normal().z, up ? 1.0 : -1.0, 1e-12) << "orientation kept";
+      EXPECT_NEAR(tri.centroid().z, 1.5, 1e-12);
+      EXPECT_LT(tri.max_edge_length() * tri.max_edge_length(), kSliverElongation * tri.area());
+    }
+  }
+}
+
+TEST(MergeSliverRegions, AHoleStaysAHoleAndOtherPlanesAreUntouched) {
+  // Strips around a 1 × 1 hole (four strip fields framing it) and, in another plane, a plain quad.
+  TriangleMesh mesh;
+  auto add = [&](const TriangleMesh& part, const Vector3& shift) {
+    const int base = static_cast<int>(mesh.vertices.size());
+    for (const Point3& p : part.vertices) mesh.vertices.push_back(p + shift);
+    for (const auto& t : part.triangles) mesh.triangles.push_back({base + t[0], base + t[1], base + t[2]});
+  };
+  add(strips(3, 1, 60, 0, true), {0, 0, 0});  // y in [0, 1]
+  add(strips(3, 1, 60, 0, true), {0, 2, 0});  // y in [2, 3]
+  add(strips(1, 1, 20, 0, true), {0, 1, 0});  // x in [0, 1], y in [1, 2]
+  add(strips(1, 1, 20, 0, true), {2, 1, 0});  // x in [2, 3]
+  const std::size_t plain_first = mesh.triangles.size();
+  add(quad_mesh({0, 0, 5}, {3, 0, 0}, {0, 3, 0}), {0, 0, 0});
+  const SliverMerge r = merge_sliver_regions(mesh);
+  EXPECT_EQ(r.regions, 1u);
+  EXPECT_NEAR(mesh_area(r.mesh), 8.0 + 9.0, 1e-12);
+  EXPECT_LT(r.mesh.triangles.size(), 20u);
+  std::size_t plain = 0;
+  for (std::size_t t = 0; t < r.mesh.triangles.size(); ++t) {
+    const Triangle tri = r.mesh.triangle(t);
+    if (tri.centroid().z > 1) {
+      ++plain;
+      continue;
+    }
+    const Point3 g = tri.centroid();
+    EXPECT_FALSE(g.x > 1 && g.x < 2 && g.y > 1 && g.y < 2) << "a triangle in the hole";
+  }
+  EXPECT_EQ(plain, mesh.triangles.size() - plain_first);
+}
+
+TEST(MergeSliverRegions, MeshesWithoutSliversAreReturnedAsTheyAre) {
+  const TriangleMesh mesh = quad_mesh({0, 0, 0}, {2, 0, 0}, {0, 1, 0});
+  const SliverMerge r = merge_sliver_regions(mesh);
+  EXPECT_EQ(r.slivers, 0u);
+  EXPECT_EQ(r.regions, 0u);
+  EXPECT_EQ(r.mesh.triangles, mesh.triangles);
+}
+
 }  // namespace
 }  // namespace lambert
