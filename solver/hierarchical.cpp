@@ -495,9 +495,12 @@ Element make_element(const Triangle& t, int surface, int parent, int root) {
 }
 
 // The hemisphere probe of leaf i (visible_fraction.h, probe_hemisphere), as the dense solver does.
+// occluder_two_sided[k]: root k lies back to back on another surface's face (Surface::two_sided).
 char hemisphere_is_closed(const Element& e, std::size_t i, int rays, const Visibility& vis,
-                          const std::vector<Vector3>& occluder_normals) {
-  return probe_hemisphere(e.tri, e.normal, i, rays, vis, [&](int hit) { return occluder_normals[hit]; });
+                          const std::vector<Vector3>& occluder_normals, const std::vector<char>& occluder_two_sided) {
+  return probe_hemisphere(e.tri, e.normal, i, rays, vis, [&](int hit, const Vector3& d) {
+    return !occluder_two_sided[hit] && dot(occluder_normals[hit], d) >= 0;
+  });
 }
 
 void check_cancel(const SolveControl& control) {
@@ -528,8 +531,11 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
     check_patch_count(total_area / max_area, true, kMaxHierarchicalPatches, control);
   }
   const double root_area = max_area * std::pow(4.0, kRootLevels);
+  std::vector<char> occluder_two_sided;  // per root, from its input triangle (Surface::two_sided)
   for (std::size_t s = 0; s < scene.surfaces.size(); ++s) {
-    const TriangleMesh pieces = subdivide_to_max_area(scene.surfaces[s].mesh, root_area);
+    const Surface& surface = scene.surfaces[s];
+    const SubdividedMesh subdivided = subdivide_to_max_area_with_parents(surface.mesh, root_area);
+    const TriangleMesh& pieces = subdivided.mesh;
     for (std::size_t t = 0; t < pieces.triangles.size(); ++t) {
       const Triangle tri = pieces.triangle(t);
       if (!(tri.area() > 0)) continue;
@@ -537,6 +543,8 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
       h.elements.push_back(make_element(tri, static_cast<int>(s), -1, root));
       h.roots.push_back(root);
       occluders.push_back(tri);
+      const std::size_t parent = static_cast<std::size_t>(subdivided.parent[t]);
+      occluder_two_sided.push_back(parent < surface.two_sided.size() ? surface.two_sided[parent] : 0);
       // Breadth-first 1:4 splits until the leaves are no larger than max_area; a parent precedes its
       // children, and the whole tree is one contiguous block.
       for (int e = root; e < static_cast<int>(h.elements.size()); ++e) {
@@ -753,7 +761,7 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, N, 16), [&](const auto& range) {
           const int rays = static_cast<int>(std::clamp<std::size_t>(4000000 / std::max<std::size_t>(N, 1), 64, 1024));
           for (std::size_t i = range.begin(); i != range.end(); ++i)
-            closed[i] = hemisphere_is_closed(h.elements[h.leaves[i]], i, rays, vis, occluder_normals);
+            closed[i] = hemisphere_is_closed(h.elements[h.leaves[i]], i, rays, vis, occluder_normals, occluder_two_sided);
         });
       }
       std::vector<double> ones(N, 1.0), row_sum(N, 0.0);

@@ -125,9 +125,16 @@ void visible_point_triangle_factors(const Point3& p, const Vector3& n, const std
 // The hemisphere probe of patch i (visible_fraction.h, probe_hemisphere): 1024 rays, so an opening
 // of 1 % of the projected hemisphere goes unseen with probability 3e-5.
 constexpr int kHemisphereRays = 1024;
-char hemisphere_is_closed(const std::vector<Patch>& patches, std::size_t i, const Visibility& vis) {
+// two_sided: per input triangle (Patch::input_triangle), as Surface::two_sided.
+char hemisphere_is_closed(const std::vector<Patch>& patches, std::size_t i, const Visibility& vis,
+                          const std::vector<char>& two_sided) {
   return probe_hemisphere(patches[i].triangle, patches[i].normal, i, kHemisphereRays, vis,
-                          [&](int hit) { return patches[hit].normal; });
+                          [&](int hit, const Vector3& d) {
+                            const int input = patches[hit].input_triangle;
+                            if (input >= 0 && static_cast<std::size_t>(input) < two_sided.size() && two_sided[input])
+                              return false;  // a sheet: its other face, coincident, faces the ray
+                            return dot(patches[hit].normal, d) >= 0;
+                          });
 }
 
 }  // namespace
@@ -285,32 +292,41 @@ double remove_contact_pieces(ContactImprint& imprint) {
   for (std::size_t m = 0; m < imprint.meshes.size(); ++m)
     for (std::size_t t = 0; t < imprint.meshes[m].triangles.size(); ++t) {
       all.push_back(imprint.meshes[m].triangle(t));
-      normals.push_back(all.back().normal());
-      any |= imprint.on_opposite_face[m][t] != 0;
+      // A flagged piece and its partner coincide, and a ray meets either of them: from inside a box
+      // pushed into a room's corner it may meet the room's wall (facing into the box) instead of the
+      // box's own side. Such pairs count as back faces (a zero normal), whichever of them is hit.
+      const bool flagged = imprint.on_opposite_face[m][t] != 0;
+      normals.push_back(flagged ? Vector3{} : all.back().normal());
+      any |= flagged;
     }
   if (!any) return 0;
   const Visibility vis(all);
   constexpr int kRays = 64;  // a solid's interior sends every ray to a back face; one escape ends it
   auto inside_a_solid = [&](const Triangle& side, const Vector3& n, std::size_t seed) {
-    return probe_hemisphere(side, n, seed, kRays, vis, [&](int hit) { return normals[hit]; }) == 3;
+    return probe_hemisphere(side, n, seed, kRays, vis,
+                            [&](int hit, const Vector3& d) { return dot(normals[hit], d) >= 0; }) == 3;
   };
   double removed = 0;
   std::size_t index = 0;
   for (std::size_t m = 0; m < imprint.meshes.size(); ++m) {
     TriangleMesh& mesh = imprint.meshes[m];
     std::vector<std::array<int, 3>> kept;
+    std::vector<char> kept_flags;
     for (std::size_t t = 0; t < mesh.triangles.size(); ++t, ++index) {
       if (imprint.on_opposite_face[m][t]) {
         const Triangle& front = all[index];
         const Triangle back{{front.v[0], front.v[2], front.v[1]}};
-        if (inside_a_solid(front, normals[index], index) || inside_a_solid(back, -normals[index], index)) {
+        const Vector3 n = front.normal();
+        if (inside_a_solid(front, n, index) || inside_a_solid(back, -n, index)) {
           removed += front.area();
           continue;
         }
       }
       kept.push_back(mesh.triangles[t]);
+      kept_flags.push_back(imprint.on_opposite_face[m][t]);
     }
     mesh.triangles = std::move(kept);
+    imprint.on_opposite_face[m] = std::move(kept_flags);  // what is left flagged: two-sided sheets
   }
   return removed;
 }
@@ -358,7 +374,10 @@ Solution solve(const Scene& scene, const SolveControl& control) {
   };
   if (imprint.triangles_cut == 0 && sliver_regions == 0) return finish(solve_method(scene, control));
   Scene cut = scene;
-  for (std::size_t s = 0; s < cut.surfaces.size(); ++s) cut.surfaces[s].mesh = std::move(imprint.meshes[s]);
+  for (std::size_t s = 0; s < cut.surfaces.size(); ++s) {
+    cut.surfaces[s].mesh = std::move(imprint.meshes[s]);
+    cut.surfaces[s].two_sided = std::move(imprint.on_opposite_face[s]);
+  }
   Solution sol = solve_method(cut, control);
   sol.stats.contact_triangles_cut = imprint.triangles_cut;
   sol.stats.contact_area_m2 = contact_area;
@@ -478,6 +497,15 @@ Solution solve_dense(const Scene& scene, const SolveControl& control, const std:
   for (const Surface& surface : scene.surfaces)
     for (std::size_t t = 0; t < surface.mesh.triangles.size(); ++t) input_triangles.push_back(surface.mesh.triangle(t));
   const OccluderPlanes occluder_planes(input_triangles);
+  std::vector<char> two_sided(input_triangles.size(), 0);  // Surface::two_sided, over all surfaces
+  {
+    std::size_t first = 0;
+    for (const Surface& surface : scene.surfaces) {
+      for (std::size_t t = 0; t < surface.two_sided.size() && t < surface.mesh.triangles.size(); ++t)
+        two_sided[first + t] = surface.two_sided[t];
+      first += surface.mesh.triangles.size();
+    }
+  }
   std::vector<OccluderPlanes::Sides> sides(occluder_planes.usable() ? N : 0);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, sides.size(), 256), [&](const auto& range) {
     for (std::size_t i = range.begin(); i != range.end(); ++i) sides[i] = occluder_planes.sides(sol.patches[i].triangle.v);
@@ -657,7 +685,7 @@ Solution solve_dense(const Scene& scene, const SolveControl& control, const std:
           const double sum = std::accumulate(&F[i * N], &F[i * N] + N, 0.0);
           closed[i] = std::abs(1 - sum) <= 1e-3 ? 1 : 0;
         } else {
-          closed[i] = hemisphere_is_closed(sol.patches, i, vis);
+          closed[i] = hemisphere_is_closed(sol.patches, i, vis, two_sided);
         }
       }
     });

@@ -37,6 +37,10 @@ struct Surface {
   TriangleMesh mesh;                // metres; counter-clockwise = front (lit) side
   std::optional<Emission> emission;
   std::string pointer;              // JSON pointer of the surface in the scene, for messages
+  // Set by solve(), not by the decoder: per triangle of `mesh`, 1 where it lies back to back on a
+  // triangle of another surface (the two faces of a sheet of zero thickness). A ray meets either
+  // face there, so meeting one from behind is not a light leak. Empty: none.
+  std::vector<char> two_sided;
 };
 
 // Light sources (SPEC §1 "Light models"). Spectra are absolute after photometric scaling.

@@ -118,15 +118,16 @@ std::size_t weighted_visible_fractions(const Visibility& vis, std::size_t count,
 
 // Probes a triangle's hemisphere (unit normal n) with `rays` cosine-distributed rays: a rank-1 lattice
 // (Fibonacci) in [0,1)², shifted by a hash of `seed` (Cranley–Patterson) so that neighbouring patches
-// do not miss the same directions, from the triangle's stratified sample points. `normal_of(hit)`
-// gives the normal of occluder `hit`. Returns 1 if every ray hits the front of a surface (closed),
+// do not miss the same directions, from the triangle's stratified sample points. `hits_back(hit, d)`
+// tells whether a ray along d that meets occluder `hit` meets its back (usually dot(normal, d) ≥ 0).
+// Returns 1 if every ray hits the front of a surface (closed),
 // 2 if some hit a back face (an open enclosure underneath or a surface facing the wrong way), 3 if
 // every ray does (the triangle lies inside a closed solid), 0 if one escapes the scene (open). An
 // opening that subtends a fraction p of the projected hemisphere goes unseen with probability
 // (1 − p)^rays.
-template <class NormalOf>
+template <class HitsBack>
 char probe_hemisphere(const Triangle& tri, const Vector3& n, std::size_t seed, int rays, const Visibility& vis,
-                      NormalOf&& normal_of) {
+                      HitsBack&& hits_back) {
   const Vector3 t = normalize(std::abs(n.x) < 0.9 ? cross(n, Vector3{1, 0, 0}) : cross(n, Vector3{0, 1, 0}));
   const Vector3 s = cross(n, t);
   const double reach = vis.scene_extent();
@@ -150,7 +151,7 @@ char probe_hemisphere(const Triangle& tri, const Vector3& n, std::size_t seed, i
     const Segment seg = ray(k);
     const int hit = vis.first_hit(seg.from, seg.to);
     if (hit < 0) return 0;
-    back += dot(normal_of(hit), seg.to - seg.from) >= 0;
+    back += hits_back(hit, seg.to - seg.from);
   }
   thread_local std::vector<Segment> segments;
   thread_local std::vector<int> hits;
@@ -161,7 +162,7 @@ char probe_hemisphere(const Triangle& tri, const Vector3& n, std::size_t seed, i
     vis.first_hits(segments, hits);
     for (std::size_t r = 0; r < segments.size(); ++r) {
       if (hits[r] < 0) return 0;
-      back += dot(normal_of(hits[r]), segments[r].to - segments[r].from) >= 0;
+      back += hits_back(hits[r], segments[r].to - segments[r].from);
     }
   }
   return back == 0 ? 1 : (back == rays ? 3 : 2);

@@ -222,6 +222,33 @@ TEST(HardCases, TwoSidedSheetOfZeroThicknessCastsAShadow) {
   }
 }
 
+TEST(HardCases, FurnaceWithBoxesInACornerStackedAndASheet) {
+  // ρ = 0.999, M = 1 everywhere, B = 1000 on every patch that takes part: a box pushed against a wall
+  // and standing on the floor (two contacts, each hiding part of the other's view of its interior), a
+  // box stacked on it, a floating box, and a sheet of zero thickness (two faces back to back, which
+  // rays meet either way and which must not count as a leak). Contact: 1 m² of floor, 1 m² of wall,
+  // 0.36 m² of box top, both faces counted.
+  for (SolverMethod method : {SolverMethod::Dense, SolverMethod::Hierarchical}) {
+    SceneBuilder b;
+    const int grey = b.material("grey", 0.999);
+    b.surface("room", grey, box({0, 0, 0}, {5, 4, 3}, true), 1.0);
+    b.surface("against the wall", grey, box({0, 1, 0}, {1, 2, 1}, false), 1.0);
+    b.surface("stacked", grey, box({0.2, 1.2, 1}, {0.8, 1.8, 1.5}, false), 1.0);
+    b.surface("floating", grey, box({3, 2, 1}, {3.5, 2.5, 1.5}, false), 1.0);
+    b.surface("sheet top", grey, rectangle({2, 0.5, 2}, {2, 0, 0}, {0, 1, 0}), 1.0);
+    b.surface("sheet bottom", grey, rectangle({2, 0.5, 2}, {0, 1, 0}, {2, 0, 0}), 1.0);
+    b.max_patch_area(0.05);
+    b.scene().solver.method = method;
+    const Solution sol = solve(b.scene());
+    const char* what = method == SolverMethod::Dense ? "dense" : "hierarchical";
+    double worst = 0;
+    for (double v : sol.radiosity) worst = std::max(worst, std::abs(v / 1000 - 1));
+    EXPECT_LT(worst, 1e-9) << what;
+    EXPECT_NEAR(sol.stats.contact_area_m2, 2 * (1 + 1 + 0.36), 1e-9) << what;
+    for (const std::string& w : sol.warnings) EXPECT_EQ(w.find("back of a surface"), std::string::npos) << what << ": " << w;
+  }
+}
+
 TEST(HardCases, MisorientedWallIsReportedAsALeak) {
   // One wall of a closed room faces outwards: patches that see its back get a warning naming them.
   SceneBuilder b;
