@@ -488,39 +488,39 @@ SliverMerge merge_sliver_regions(const TriangleMesh& mesh, double tolerance) {
     std::vector<Point3> points;
     bool ok = true;
     try {
-    for (const std::vector<Loop2d>& polygon : convex_union(parts)) {
-      CDT cdt;
-      std::map<CDT::Vertex_handle, int> index;  // into `points`
-      for (const Loop2d& raw : polygon) {
-        const Loop2d loop = without_collinear_vertices(raw, eps);
-        if (loop.size() < 3) continue;
-        std::vector<CDT::Vertex_handle> handles;
-        for (const Point2d& p : loop) {
-          CDT::Vertex_handle h = cdt.insert(P2(p[0], p[1]));
-          if (index.try_emplace(h, static_cast<int>(points.size())).second)
-            points.push_back(centre + u * p[0] + v * p[1] + n * region.d);
-          handles.push_back(h);
-        }
-        for (std::size_t k = 0; k < handles.size(); ++k) {
-          if (handles[k] == handles[(k + 1) % handles.size()]) continue;
-          cdt.insert_constraint(handles[k], handles[(k + 1) % handles.size()]);
-        }
-      }
-      mark_domains(cdt);
-      for (CDT::Face_handle f : cdt.finite_face_handles()) {
-        if (!f->info().in_domain()) continue;
-        std::array<int, 3> tri{};
-        for (int k = 0; k < 3; ++k) {
-          const auto it = index.find(f->vertex(k));
-          if (it == index.end()) {
-            ok = false;  // a vertex the triangulation made up (constraints crossing): keep the input
-            break;
+      for (const std::vector<Loop2d>& polygon : convex_union(parts)) {
+        CDT cdt;
+        std::map<CDT::Vertex_handle, int> index;  // into `points`
+        for (const Loop2d& raw : polygon) {
+          const Loop2d loop = without_collinear_vertices(raw, eps);
+          if (loop.size() < 3) continue;
+          std::vector<CDT::Vertex_handle> handles;
+          for (const Point2d& p : loop) {
+            CDT::Vertex_handle h = cdt.insert(P2(p[0], p[1]));
+            if (index.try_emplace(h, static_cast<int>(points.size())).second)
+              points.push_back(centre + u * p[0] + v * p[1] + n * region.d);
+            handles.push_back(h);
           }
-          tri[k] = it->second;
+          for (std::size_t k = 0; k < handles.size(); ++k) {
+            if (handles[k] == handles[(k + 1) % handles.size()]) continue;
+            cdt.insert_constraint(handles[k], handles[(k + 1) % handles.size()]);
+          }
         }
-        if (ok) pieces.push_back(tri);
+        mark_domains(cdt);
+        for (CDT::Face_handle f : cdt.finite_face_handles()) {
+          if (!f->info().in_domain()) continue;
+          std::array<int, 3> tri{};
+          for (int k = 0; k < 3; ++k) {
+            const auto it = index.find(f->vertex(k));
+            if (it == index.end()) {
+              ok = false;  // a vertex the triangulation made up (constraints crossing): keep the input
+              break;
+            }
+            tri[k] = it->second;
+          }
+          if (ok) pieces.push_back(tri);
+        }
       }
-    }
     } catch (const std::exception&) {
       ok = false;  // CGAL refused the boundary (crossing constraints after rounding): keep the input
     }

@@ -72,10 +72,7 @@ OccluderPlanes::OccluderPlanes(std::span<const Triangle> triangles) {
     }
     groups_.push_back({plane, {Plane{u, hi_u}, Plane{-u, -lo_u}, Plane{v, hi_v}, Plane{-v, -lo_v}}});
   }
-  for (std::size_t g = 0; g < groups_.size(); ++g) {
-    plane_bits_[g / 8] |= std::uint64_t{1} << (8 * (g % 8));
-    low_bits_[g / 8] |= std::uint64_t{1} << (8 * (g % 8));
-  }
+  for (std::size_t g = 0; g < groups_.size(); ++g) low_bits_[g / 8] |= std::uint64_t{1} << (8 * (g % 8));
   words_ = static_cast<int>((groups_.size() + 7) / 8);
   usable_ = true;
 }

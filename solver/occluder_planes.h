@@ -44,7 +44,7 @@ class OccluderPlanes {
   bool in_front_of_all(const Sides& a) const {
     if (!usable_) return false;
     for (int w = 0; w < words_; ++w)
-      if ((a.front[w] & plane_bits_[w]) != plane_bits_[w]) return false;
+      if ((a.front[w] & low_bits_[w]) != low_bits_[w]) return false;  // bit 0 of a byte: the plane
     return true;
   }
   // Whether nothing can lie between the two point sets (each the vertices of a convex patch, or a
@@ -70,7 +70,7 @@ class OccluderPlanes {
     std::array<Plane, 4> sides;  // outward normals in the plane; outside: n·(x − centre_) ≥ d
   };
   std::vector<Group> groups_;
-  std::array<std::uint64_t, kWords> plane_bits_{}, low_bits_{};
+  std::array<std::uint64_t, kWords> low_bits_{};  // bit 0 of every used group's byte
   int words_ = 0;
   Point3 centre_;
   double eps_ = 0;
