@@ -180,7 +180,8 @@ TEST(AreaFormFactor, FarFieldShortcutIsAccurate) {
     Triangle facing = source;
     if (dot(facing.normal(), Vector3{0, 0, 1}) > 0) std::swap(facing.v[1], facing.v[2]);
     const double reference = area_form_factor(receiver, facing, adaptive_only);
-    if (reference > 0) EXPECT_NEAR(area_form_factor(receiver, facing), reference, 1e-5 * reference) << tilt;
+    ASSERT_GT(reference, 0) << tilt;
+    EXPECT_NEAR(area_form_factor(receiver, facing), reference, 1e-5 * reference) << tilt;
   }
 }
 

@@ -42,18 +42,11 @@ TEST(HardCases, SliversAspect100) {
 
 // A closed room (inward faces as box() makes them) whose every face is cut into n strips.
 std::vector<Triangle> strip_room(const Point3& lo, const Point3& hi, int n) {
-  const double dx = hi.x - lo.x, dy = hi.y - lo.y, dz = hi.z - lo.z;
   std::vector<Triangle> out;
-  auto add = [&](const Point3& o, const Vector3& u, const Vector3& v) {
+  test::for_each_box_face(lo, hi, [&](const Point3& o, const Vector3& u, const Vector3& v) {
     for (int i = 0; i < n; ++i)
       for (const Triangle& t : rectangle(o + u * (double(i) / n), u / double(n), v)) out.push_back(t);
-  };
-  add(lo, {dx, 0, 0}, {0, dy, 0});
-  add({lo.x, lo.y, hi.z}, {0, dy, 0}, {dx, 0, 0});
-  add(lo, {0, 0, dz}, {dx, 0, 0});
-  add({lo.x, hi.y, lo.z}, {dx, 0, 0}, {0, 0, dz});
-  add(lo, {0, dy, 0}, {0, 0, dz});
-  add({hi.x, lo.y, lo.z}, {0, 0, dz}, {0, dy, 0});
+  });
   return out;
 }
 

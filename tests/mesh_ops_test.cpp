@@ -15,6 +15,8 @@
 #include <numbers>
 #include <set>
 
+#include "tests/test_geometry.h"
+
 namespace lambert {
 namespace {
 
@@ -641,20 +643,12 @@ TEST(ImprintContacts, NoSliversWhereFootprintsCrossTheFloorsDiagonal) {
   for (int i = 0; i < 3; ++i) {
     const double x = 1 + 1.9 * i;
     TriangleMesh desk;
-    const Point3 lo{x, 0.8, 0}, hi{x + 1.6, 1.6, 0.75};
-    const double dx = hi.x - lo.x, dy = hi.y - lo.y, dz = hi.z - lo.z;
-    auto add = [&](const Point3& o, const Vector3& u, const Vector3& v) {  // outward faces
-      const TriangleMesh q = quad_mesh(o, v, u);
+    test::for_each_box_face({x, 0.8, 0}, {x + 1.6, 1.6, 0.75}, [&](const Point3& o, const Vector3& u, const Vector3& v) {
+      const TriangleMesh q = quad_mesh(o, v, u);  // outward faces
       const int b = static_cast<int>(desk.vertices.size());
       desk.vertices.insert(desk.vertices.end(), q.vertices.begin(), q.vertices.end());
       for (const auto& t : q.triangles) desk.triangles.push_back({b + t[0], b + t[1], b + t[2]});
-    };
-    add(lo, {dx, 0, 0}, {0, dy, 0});
-    add({lo.x, lo.y, hi.z}, {0, dy, 0}, {dx, 0, 0});
-    add(lo, {0, 0, dz}, {dx, 0, 0});
-    add({lo.x, hi.y, lo.z}, {dx, 0, 0}, {0, 0, dz});
-    add(lo, {0, dy, 0}, {0, 0, dz});
-    add({hi.x, lo.y, lo.z}, {0, 0, dz}, {0, dy, 0});
+    });
     meshes.push_back(desk);
   }
   const ContactImprint r = imprint_contacts(meshes);

@@ -68,17 +68,10 @@ inline double surface_mean(const Solution& sol, int surface, const std::vector<d
 // Axis-aligned box [lo, hi] as 6 rectangles (12 triangles), normals pointing inward (a room) or
 // outward (an obstacle).
 inline std::vector<Triangle> box(const Point3& lo, const Point3& hi, bool inward) {
-  const double dx = hi.x - lo.x, dy = hi.y - lo.y, dz = hi.z - lo.z;
   std::vector<Triangle> out;
-  auto add = [&](const Point3& o, const Vector3& u, const Vector3& v) {
+  for_each_box_face(lo, hi, [&](const Point3& o, const Vector3& u, const Vector3& v) {
     for (const Triangle& t : inward ? rectangle(o, u, v) : rectangle(o, v, u)) out.push_back(t);
-  };
-  add(lo, {dx, 0, 0}, {0, dy, 0});                 // z = lo: inward normal +z
-  add({lo.x, lo.y, hi.z}, {0, dy, 0}, {dx, 0, 0});  // z = hi: -z
-  add(lo, {0, 0, dz}, {dx, 0, 0});                 // y = lo: +y
-  add({lo.x, hi.y, lo.z}, {dx, 0, 0}, {0, 0, dz});  // y = hi: -y
-  add(lo, {0, dy, 0}, {0, 0, dz});                 // x = lo: +x
-  add({hi.x, lo.y, lo.z}, {0, 0, dz}, {0, dy, 0});  // x = hi: -x
+  });
   return out;
 }
 
