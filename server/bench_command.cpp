@@ -313,9 +313,10 @@ json run_ray_cost() {
     scenes.push_back({"cube-room", s});
   }
   {
-    json s = office_furnace().scene;
+    const ScalingScene office = office_furnace();
+    json s = office.scene;
     s["solver"] = {{"method", "dense"}};
-    s["meshing"] = {{"max_patch_area", office_furnace().total_area / 3000}};
+    s["meshing"] = {{"max_patch_area", office.total_area / 3000}};
     scenes.push_back({"office-50-desks", s});
   }
   std::printf("\n%-18s %8s %11s %14s %14s %14s %7s\n", "ray cost", "patches", "link_rays", "solver_ns/ray",
