@@ -45,6 +45,7 @@ constexpr double kPowerShare = 1;
 constexpr double kUnitPatches = 4;   // the oracle's area weight starts above this many patches
 constexpr double kWellSeparated = 1.5;  // cluster links need d ≥ 1.5 (r_source + r_receiver)
 constexpr std::size_t kMaxBatch = 16;   // systems per gather pass (the GMRES batch size)
+constexpr int kMaxBalanceSweeps = 100;  // of the closure balance; the error usually halves per sweep
 
 struct Element {
   Triangle tri;
@@ -111,7 +112,10 @@ class Hierarchy {
   std::vector<int> leaves;          // element of each unknown
   std::vector<Link> links;
   std::vector<std::size_t> link_start;  // CSR over receivers: links of element e in [start[e], start[e+1])
-  std::vector<double> leaf_scale;   // closure scaling of the gathered irradiance per leaf (1 if open)
+  // Closure scaling (see balance()): the operator applied is F' = D_r F D_c, with D_r = leaf_scale on
+  // the gathered irradiance (rows) and D_c = source_scale on the radiosity shot (columns).
+  std::vector<double> leaf_scale;
+  std::vector<double> source_scale;
 
   // Per-node values of one gather pass, K systems interleaved ([node][k]).
   struct Values {
@@ -120,7 +124,9 @@ class Hierarchy {
     std::vector<double> Phi;  // per cluster: 6 bins × K
   };
 
-  void pull(const std::vector<const double*>& V, Values& out) const {
+  // Area-mean radiosity per element and projected power per cluster; V[k][leaf] × column_scale[leaf]
+  // where column_scale is given.
+  void pull(const std::vector<const double*>& V, Values& out, const double* column_scale = nullptr) const {
     const std::size_t K = V.size();
     out.K = K;
     out.B.assign(elements.size() * K, 0.0);
@@ -132,7 +138,8 @@ class Hierarchy {
           const Element& el = elements[e];
           double* b = &out.B[e * K];
           if (el.leaf >= 0) {
-            for (std::size_t k = 0; k < K; ++k) b[k] = V[k][el.leaf];
+            const double c = column_scale ? column_scale[el.leaf] : 1.0;
+            for (std::size_t k = 0; k < K; ++k) b[k] = c * V[k][el.leaf];
           } else {
             for (int c = 0; c < 4; ++c) {
               const double w = elements[el.first_child + c].area / el.area;
@@ -190,7 +197,7 @@ class Hierarchy {
         {{0.5, 0, 0.5}, {0, 0.5, 0.5}, {0, 0, 1}},
         {{0.5, 0.5, 0}, {0, 0.5, 0.5}, {0.5, 0, 0.5}}};
     Values v;
-    pull(V, v);
+    pull(V, v, scaled ? source_scale.data() : nullptr);
     const std::size_t K = V.size();
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, root_block.size(), 8), [&](const auto& range) {
       std::vector<double> H;
@@ -218,8 +225,134 @@ class Hierarchy {
     });
   }
 
+  // out = Fᵀ W over the leaves, for the unscaled operator: the adjoint of apply(), step by step in
+  // reverse (leaf mean, push-down, gather, pull). Sources receive from receivers of other roots, so
+  // each thread accumulates into its own copy of the element and cluster adjoints.
+  void apply_transpose(const double* W, double* out) const {
+    static constexpr double kChildVertex[4][3][3] = {
+        {{1, 0, 0}, {0.5, 0.5, 0}, {0.5, 0, 0.5}},
+        {{0.5, 0.5, 0}, {0, 1, 0}, {0, 0.5, 0.5}},
+        {{0.5, 0, 0.5}, {0, 0.5, 0.5}, {0, 0, 1}},
+        {{0.5, 0.5, 0}, {0, 0.5, 0.5}, {0.5, 0, 0.5}}};
+    const std::size_t E = elements.size();
+    tbb::enumerable_thread_specific<std::vector<double>> adjoints(std::vector<double>(E + 6 * clusters.size(), 0.0));
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, root_block.size(), 8), [&](const auto& range) {
+      std::vector<double>& a = adjoints.local();
+      double* B_bar = a.data();
+      double* Phi_bar = a.data() + E;
+      std::vector<double> H;  // adjoint of the vertex irradiance, per element of the root's block
+      for (std::size_t r = range.begin(); r != range.end(); ++r) {
+        const auto [first, end] = root_block[r];
+        H.assign((end - first) * 3, 0.0);
+        for (int e = end - 1; e >= first; --e) {  // children first: the reverse of the push-down
+          const Element& el = elements[e];
+          double* h = &H[(e - first) * 3];
+          if (el.leaf >= 0)
+            for (int n = 0; n < 3; ++n) h[n] += W[el.leaf] / 3;
+          for (std::size_t l = link_start[e]; l < link_start[e + 1]; ++l) {
+            const Link& link = links[l];
+            if (!link.from_cluster) {
+              B_bar[link.source] += link.coeff[0] * h[0] + link.coeff[1] * h[1] + link.coeff[2] * h[2];
+            } else {
+              const double total = h[0] + h[1] + h[2];
+              for (int k = 0; k < 3; ++k) Phi_bar[link.source * 6 + link.bin[k]] += link.coeff[k] * total;
+            }
+          }
+          if (el.parent >= 0) {
+            double* hp = &H[(el.parent - first) * 3];
+            const auto& at = kChildVertex[e - elements[el.parent].first_child];
+            for (int n = 0; n < 3; ++n)
+              for (int m = 0; m < 3; ++m) hp[m] += at[n][m] * h[n];
+          }
+        }
+      }
+    });
+    std::vector<double> bar(E + 6 * clusters.size(), 0.0);
+    for (const auto& a : adjoints)
+      for (std::size_t q = 0; q < bar.size(); ++q) bar[q] += a[q];
+    double* B_bar = bar.data();
+    double* Phi_bar = bar.data() + E;
+    for (std::size_t c = 0; c < clusters.size(); ++c) {  // parents first: the reverse of the pull
+      const Cluster& cl = clusters[c];
+      const double* phi = &Phi_bar[c * 6];
+      if (cl.root >= 0) {
+        for (int bin = 0; bin < 6; ++bin) B_bar[cl.root] += cl.projected[bin] * phi[bin];
+      } else {
+        for (int ch : cl.child)
+          for (int bin = 0; bin < 6; ++bin) Phi_bar[ch * 6 + bin] += phi[bin];
+      }
+    }
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, root_block.size(), 8), [&](const auto& range) {
+      for (std::size_t r = range.begin(); r != range.end(); ++r) {
+        const auto [first, end] = root_block[r];
+        for (int e = first; e < end; ++e) {
+          const Element& el = elements[e];
+          if (el.leaf >= 0) {
+            out[el.leaf] = B_bar[e];
+          } else {
+            for (int c = 0; c < 4; ++c) B_bar[el.first_child + c] += elements[el.first_child + c].area / el.area * B_bar[e];
+          }
+        }
+      }
+    });
+  }
+
   bool has_children(int e) const { return elements[e].first_child >= 0; }
 };
+
+// Closure and conservation. The links are estimates (rays, fits, cluster approximations) and not
+// reciprocal, so their row sums Σ_j F_ij (what leaf i gathers of a uniform radiosity) and their
+// area-weighted column sums Σ_i A_i F_ij / A_j (what the scene gathers of leaf j's power) both miss 1
+// in a closed hemisphere. Scaling rows alone makes a furnace exact but not the energy: the power shot
+// by j is received as its column sum. So rows and columns are scaled together, F' = D_r F D_c
+// (Sinkhorn–Knopp, alternating): a closed leaf's row and column sums become 1, an open leaf's are
+// only kept from exceeding 1 (never more than a hemisphere, never more than was shot). Each sweep is
+// one apply() and one apply_transpose(), and the error halves per sweep; the scales of the previous
+// refinement round, whose links mostly remain, are the starting point. Returns the largest row-sum
+// error of a closed leaf before any scaling (stats.max_closure_error).
+double balance(Hierarchy& h, const std::vector<char>& closed, const std::vector<Patch>& patches) {
+  const std::size_t N = h.leaves.size();
+  std::vector<double> rows(N, 1.0), weighted(N), cols(N);
+  double raw_error = 0;
+  h.apply({rows.data()}, {cols.data()}, false);  // Σ_j F_ij, unscaled
+  // Rows held at 1: closed leaves, and leaking ones (some probe rays met back faces) whose links
+  // already gather a whole hemisphere. Columns held at 1: closed leaves; capped at 1: open ones.
+  std::vector<char> full_row(N);
+  for (std::size_t i = 0; i < N; ++i) {
+    if (closed[i] == 1 && cols[i] > 0) raw_error = std::max(raw_error, std::abs(1 - cols[i]));
+    full_row[i] = closed[i] == 1 || (closed[i] == 2 && cols[i] >= 1);
+  }
+  if (h.leaf_scale.size() != N) h.leaf_scale.assign(N, 1.0);
+  if (h.source_scale.size() != N) h.source_scale.assign(N, 1.0);
+  auto scale_rows = [&] {  // returns the rows' error before
+    h.apply({h.source_scale.data()}, {rows.data()}, false);  // Σ_j F_ij d_c,j
+    double row_error = 0;
+    for (std::size_t i = 0; i < N; ++i) {
+      const double S = rows[i] * h.leaf_scale[i];
+      if (full_row[i] && S > 0) row_error = std::max(row_error, std::abs(1 - S));
+      h.leaf_scale[i] = rows[i] > 0 && (full_row[i] || rows[i] > 1) ? 1 / rows[i] : 1.0;
+    }
+    return row_error;
+  };
+  for (int sweep = 0; sweep < kMaxBalanceSweeps; ++sweep) {
+    const double row_error = scale_rows();
+    for (std::size_t i = 0; i < N; ++i) weighted[i] = patches[i].area_m2 * h.leaf_scale[i];
+    h.apply_transpose(weighted.data(), cols.data());  // Σ_i A_i d_r,i F_ij
+    double col_error = 0;
+    for (std::size_t j = 0; j < N; ++j) {
+      const double t = cols[j] / patches[j].area_m2;
+      const double C = t * h.source_scale[j];
+      if (closed[j] == 1 && C > 0) col_error = std::max(col_error, std::abs(1 - C));
+      h.source_scale[j] = t > 0 && (closed[j] == 1 || (closed[j] == 0 && t > 1)) ? 1 / t : 1.0;
+    }
+    if (std::max(row_error, col_error) < 1e-11) break;
+  }
+  // Rows last: a furnace with ρ = 0.999 multiplies a row's error by 1000. Where the sweeps have not
+  // converged (leaves partly inside solids, whose rows and columns are free, can make that slow),
+  // the columns keep a small error, which the energy certificate shows as imbalance.
+  scale_rows();
+  return raw_error;
+}
 
 // Least-squares f ≈ Σ_v a_v β_v over points with barycentric coordinates β (normal equations, Cramer).
 template <std::size_t P>
@@ -725,6 +858,7 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
   double total_area = 0;
   for (const Patch& p : sol.patches) total_area += p.area_m2;
   h.leaf_scale.assign(N, 1.0);
+  h.source_scale.assign(N, 1.0);
   double time_links = 0, time_solve = 0;
   std::vector<char> closed(N, 0);
   if (need_links && N > 0) {
@@ -789,19 +923,7 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
             closed[i] = hemisphere_is_closed(h.elements[h.leaves[i]], i, rays, vis, occluder_normals, occluder_two_sided);
         });
       }
-      std::vector<double> ones(N, 1.0), row_sum(N, 0.0);
-      h.apply({ones.data()}, {row_sum.data()}, false);
-      double worst = 0;
-      for (std::size_t i = 0; i < N; ++i) {
-        const double S = row_sum[i];
-        if (closed[i] == 1 && S > 0) {
-          worst = std::max(worst, std::abs(1 - S));
-          h.leaf_scale[i] = 1 / S;
-        } else {
-          h.leaf_scale[i] = S > 1 ? 1 / S : 1.0;  // never more than all of a hemisphere
-        }
-      }
-      sol.stats.max_closure_error = worst;
+      sol.stats.max_closure_error = balance(h, closed, sol.patches);
       time_links += seconds_since(t1);
       report(0.1 + 0.2 * (round + 1));
 
@@ -985,15 +1107,17 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
   sol.stats.time_probes_s = seconds_since(t0);
 
   // ---- energy balance: emitted = absorbed + escaped (W, integrated over the grid) ----
-  // A leaf's outgoing power that reaches no element is estimated by its own row sum (reciprocity):
-  // escaped_i = A_i B_i (1 − min(1, scale_i Σ_j F_ij)).
+  // The power that leaf j shoots and no leaf gathers is A_j B_j (1 − its column sum of F'): the
+  // balance is then exact for the operator solved, whatever the links' errors.
   std::vector<double> received(N, 0.0);
   if (need_links && N > 0) {
-    std::vector<double> ones(N, 1.0);
-    h.apply({ones.data()}, {received.data()});
+    std::vector<double> weighted(N);
+    for (std::size_t i = 0; i < N; ++i) weighted[i] = sol.patches[i].area_m2 * h.leaf_scale[i];
+    h.apply_transpose(weighted.data(), received.data());
+    for (std::size_t j = 0; j < N; ++j) received[j] *= h.source_scale[j] / sol.patches[j].area_m2;
   }
   std::vector<double> leak(N);
-  for (std::size_t i = 0; i < N; ++i) leak[i] = 1 - std::min(1.0, received[i]);
+  for (std::size_t i = 0; i < N; ++i) leak[i] = 1 - received[i];
   account_energy(scene.grid, sources, sol.patches, rho, M, E_direct, E_point, sol.radiosity, sol.irradiance, leak,
                  sol.stats);
   sol.stats.rays = vis.rays_traced();

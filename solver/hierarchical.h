@@ -33,9 +33,12 @@
 //
 // Solve: the operator F is applied matrix-free (pull radiosity up to elements and clusters, gather
 // over links, push irradiance down to the leaves) inside the lockstep GMRES of solver/linear_solve.h,
-// one system per distinct spectral system. Closure: each leaf whose hemisphere is closed (probe rays
-// all hit front faces) has its gathered row sum Σ F scaled to exactly 1, so a furnace gives
-// B = M/(1 − ρ) exactly; the largest correction is reported as stats.max_closure_error.
+// one system per distinct spectral system. Closure and conservation: the operator is balanced as
+// F' = D_r F D_c (Sinkhorn–Knopp, with the transposed operator) so that each leaf whose hemisphere
+// is closed (probe rays all hit front faces) gathers exactly a hemisphere (row sum 1: a furnace gives
+// B = M/(1 − ρ) exactly) and has all its power gathered (area-weighted column sum 1: energy is
+// conserved); the largest raw row-sum error is reported as stats.max_closure_error. The energy
+// certificate counts as escaped what the links do not gather of each leaf (its column sum).
 #pragma once
 
 #include "solver/radiosity.h"
