@@ -50,6 +50,46 @@ inline std::array<Triangle, 2> split2(const Triangle& t) {
   return {Triangle{{a, m, c}}, Triangle{{m, b, c}}};
 }
 
+// The part of triangle t strictly in front of the plane through o with normal m (dot(x − o, m) > 0),
+// as 0, 1 or 2 triangles (a triangle, or a quadrilateral split along a diagonal), orientation
+// preserved. `cut` tells whether the plane crosses t's interior; vertices within 1e-12 of t's size
+// of the plane count as lying on it (t then is not cut). Used where an integrand over t vanishes
+// behind the plane: the kink along the crossing is one that a fixed cubature rule does not resolve at
+// any distance (form_factor_test, "PairsWhosePlanesCutEachOther"), so the front part is integrated.
+struct FrontPart {
+  std::array<Triangle, 2> pieces{};
+  int count = 0;
+  bool cut = false;
+};
+inline FrontPart front_part(const Triangle& t, const Point3& o, const Vector3& m) {
+  FrontPart out;
+  double h[3];
+  const double tolerance = 1e-12 * length(m) * t.max_edge_length();
+  int front = 0, behind = 0;
+  for (int k = 0; k < 3; ++k) {
+    h[k] = dot(t.v[k] - o, m);
+    if (std::abs(h[k]) <= tolerance) h[k] = 0;
+    front += h[k] > 0;
+    behind += h[k] < 0;
+  }
+  if (front == 0) return out;
+  if (behind == 0) {
+    out.pieces[0] = t;
+    out.count = 1;
+    return out;
+  }
+  std::array<Point3, 4> poly;  // Sutherland–Hodgman against one plane: at most 4 vertices
+  int n = 0;
+  for (int k = 0; k < 3; ++k) {
+    const int j = (k + 1) % 3;
+    if (h[k] >= 0) poly[n++] = t.v[k];
+    if ((h[k] > 0 && h[j] < 0) || (h[k] < 0 && h[j] > 0)) poly[n++] = t.v[k] + (t.v[j] - t.v[k]) * (h[k] / (h[k] - h[j]));
+  }
+  out.cut = true;
+  for (int k = 1; k + 1 < n; ++k) out.pieces[out.count++] = Triangle{{poly[0], poly[k], poly[k + 1]}};
+  return out;
+}
+
 // Whether a triangle is elongated enough (longest edge over height above 4) that bisection serves
 // it better than the 1:4 split.
 inline bool is_elongated(const Triangle& t) {

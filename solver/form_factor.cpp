@@ -134,8 +134,10 @@ constexpr std::array<double, 7> kDeg5Weights = {9.0 / 40, kWa, kWa, kWa, kWb, kW
 
 TriangleRule triangle_rule_degree5() { return {kDeg5Points.data(), kDeg5Weights.data(), 7}; }
 
-double area_form_factor(const Triangle& receiver, const Triangle& source,
-                        const AreaFactorOptions& options) {
+namespace {
+
+// area_form_factor for a receiver wholly in front of (or on) the source's plane.
+double front_area_form_factor(const Triangle& receiver, const Triangle& source, const AreaFactorOptions& options) {
   const Vector3 n = receiver.normal();
   const Point3 cr = receiver.centroid(), cs = source.centroid();
   const double separation =
@@ -157,6 +159,19 @@ double area_form_factor(const Triangle& receiver, const Triangle& source,
   const double tolerance = std::max(options.abs_tolerance * receiver.area(),
                                     options.rel_tolerance * std::abs(coarse));
   return integrate_adaptive(receiver, kernel, coarse, tolerance, options.max_depth);
+}
+
+}  // namespace
+
+double area_form_factor(const Triangle& receiver, const Triangle& source, const AreaFactorOptions& options) {
+  // The kernel vanishes where the receiver lies behind the source's plane; where that plane cuts the
+  // receiver, integrate over the part in front (the source's part behind the receiver's plane needs
+  // nothing: every receiving point clips it at the same plane, its horizon).
+  const FrontPart part = front_part(receiver, source.v[0], source.area_vector());
+  if (!part.cut) return part.count > 0 ? front_area_form_factor(receiver, source, options) : 0.0;
+  double sum = 0;
+  for (int k = 0; k < part.count; ++k) sum += front_area_form_factor(part.pieces[k], source, options);
+  return sum;
 }
 
 }  // namespace lambert

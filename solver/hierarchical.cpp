@@ -447,7 +447,9 @@ class Refiner {
     if (B * residual * weight > epsilon_) return split(r, s, out);
     // Near pairs: the receiver average by adaptive cubature (exact kernel, log-singular near contact).
     const double separation = distance(R.centre, S.centre) / (R.radius + S.radius);
-    const double F = separation > 4 ? mean : area_form_factor(R.tri, S.tri, near_field_) / R.area;
+    // (The fixed rule's mean only where S's plane does not cut R: see cubature.h, front_part.)
+    const bool smooth = separation > 4 && !front_part(R.tri, S.tri.v[0], S.tri.area_vector()).cut;
+    const double F = smooth ? mean : area_form_factor(R.tri, S.tri, near_field_) / R.area;
     if (F <= 0) return;
     const double shift = F - (a[0] + a[1] + a[2]) / 3;  // the linear factor's mean is F exactly
     for (double& value : a) value += shift;
@@ -575,11 +577,7 @@ class Refiner {
   void link_leaves(int r, int s, LinkBatch& out) const {
     const Element& R = h_.elements[r];
     const Element& S = h_.elements[s];
-    const double separation = distance(R.centre, S.centre) / (R.radius + S.radius);
-    const double F = (separation > 4 ? apply_rule(triangle_rule_degree5(), R.tri,
-                                                  [&](const Point3& p) { return point_triangle_factor(p, R.normal, S.tri); })
-                                     : area_form_factor(R.tri, S.tri, near_field_)) /
-                     R.area;
+    const double F = area_form_factor(R.tri, S.tri, near_field_) / R.area;
     if (!(F > 0)) return;
     Link link;
     link.receiver = r;

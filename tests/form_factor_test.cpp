@@ -11,6 +11,7 @@
 namespace lambert {
 namespace {
 
+using test::howell_c14;
 using test::rectangle;
 
 double point_rect_factor(const Point3& p, const Vector3& n, const std::vector<Triangle>& rect) {
@@ -182,6 +183,31 @@ TEST(AreaFormFactor, FarFieldShortcutIsAccurate) {
     const double reference = area_form_factor(receiver, facing, adaptive_only);
     ASSERT_GT(reference, 0) << tilt;
     EXPECT_NEAR(area_form_factor(receiver, facing), reference, 1e-5 * reference) << tilt;
+  }
+}
+
+TEST(AreaFormFactor, PairsWhosePlanesCutEachOther) {
+  // A floor x ∈ [0, 1], y ∈ [−w, w] (two triangles, each cut by the plane y = 0) and a wall in that
+  // plane facing +y, x ∈ [0, 1], z ∈ [a, b]. Only the half y > 0 sees the wall, so by Howell C-14 and
+  // additivity over the wall: A F = w (F14(w, b) − F14(w, a)) (common edge 1, floor width w). The
+  // kernel is zero over the other half, a kink across each floor triangle that a fixed rule does not
+  // resolve at any distance. The same value with the wall as receiver (reciprocity): then the source
+  // (floor) lies partly behind the receiver's plane. Near (touching at z = 0), middle and far pairs.
+  const double w = 0.5;
+  const std::vector<Triangle> floor = {Triangle{{Point3{0, -w, 0}, Point3{1, -w, 0}, Point3{1, w, 0}}},
+                                       Triangle{{Point3{0, -w, 0}, Point3{1, w, 0}, Point3{0, w, 0}}}};
+  for (const auto& [a, b] : {std::pair{0.0, 1.0}, std::pair{1.0, 2.0}, std::pair{2.0, 2.5}, std::pair{8.0, 9.0}}) {
+    const std::vector<Triangle> wall = rectangle({0, 0, a}, {0, 0, b - a}, {1, 0, 0});
+    ASSERT_GT(dot(wall[0].normal(), Vector3{0, 1, 0}), 0.99);
+    const double expected = w * (howell_c14(w, b) - (a > 0 ? howell_c14(w, a) : 0.0));
+    double floor_to_wall = 0, wall_to_floor = 0;
+    for (const Triangle& f : floor)
+      for (const Triangle& t : wall) {
+        floor_to_wall += area_form_factor(f, t);
+        wall_to_floor += area_form_factor(t, f);
+      }
+    EXPECT_NEAR(floor_to_wall, expected, 1e-5 * expected) << a << ".." << b;
+    EXPECT_NEAR(wall_to_floor, expected, 1e-5 * expected) << a << ".." << b;
   }
 }
 

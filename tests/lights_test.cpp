@@ -453,6 +453,27 @@ TEST(Lights, PhongWithExponentOneEqualsTheFormFactorPath) {
   }
 }
 
+TEST(Lights, PhongEmitterCutByTheReceiversPlane) {
+  // n = 1 emitters (a floor x ∈ [0, 1], y ∈ [−w, w], as two triangles) cut by the plane y = 0 of the
+  // receiving wall (facing +y, x ∈ [0, 1], z ∈ [8, 9]): only the half y > 0 shines on it, so by Howell
+  // C-14 and additivity Σ A_t E_t = w (F14(w, 9) − F14(w, 8)) per unit exitance. Far enough for the
+  // fixed rule, which must integrate the emitter's part in front of the wall only (3 % off otherwise).
+  const double w = 0.5;
+  const std::vector<Triangle> floor = {Triangle{{Point3{0, -w, 0}, Point3{1, -w, 0}, Point3{1, w, 0}}},
+                                       Triangle{{Point3{0, -w, 0}, Point3{1, w, 0}, Point3{0, w, 0}}}};
+  const std::vector<Triangle> wall = rectangle({0, 0, 8}, {0, 0, 1}, {1, 0, 0});
+  std::vector<Triangle> occluders = floor;
+  occluders.insert(occluders.end(), wall.begin(), wall.end());
+  const Visibility vis(occluders);
+  double power = 0;
+  for (const Triangle& e : floor) {
+    const auto phong = make_phong_emitter(e, 1, {1.0});
+    for (const Triangle& t : wall) power += t.area() * phong->patch_factor(t, vis);
+  }
+  const double expected = w * (closed_form::howell_c14(w, 9) - closed_form::howell_c14(w, 8));
+  EXPECT_NEAR(power, expected, 1e-5 * expected);
+}
+
 TEST(Lights, PhongSolveWithExponentNearOneMatchesLambertian) {
   // A reflecting room (ρ = 0.5) lit by a ceiling emitter: n = 1 (form factors, emission in B) against
   // n = 1 + 1e-12 (the direct path, emission outside B). H must agree on every patch, and B on every

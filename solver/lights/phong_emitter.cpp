@@ -91,13 +91,20 @@ class PhongEmitterModel final : public LightModel {
     // Far apart, relative to the lobe's width ~ 1/sqrt(n), the degree-5 rule alone is accurate (as
     // for the Lambertian form factors, to which this reduces at n = 1).
     const double separation = distance(emitter_.centroid(), t.centroid()) / (emitter_.bounding_radius() + t.bounding_radius());
-    double G;
-    if (separation > 4 * std::sqrt(std::max(1.0, lobe_.exponent))) {
-      G = apply_rule(triangle_rule_degree5(), emitter_, flux_from);
-    } else {
-      const double ratio = emitter_.max_edge_length() / t.max_edge_length();
-      const int min_depth = lobe_.exponent > 8 ? std::clamp(static_cast<int>(std::ceil(std::log2(ratio))), 0, 4) : 0;
-      G = integrate_graded(emitter_, flux_from, min_depth, kRelTolerance, 1e-12 * area_);
+    // flux_from vanishes behind t's plane: where that plane cuts the emitter, integrate over the part
+    // in front (cubature.h, front_part), on which the integrand has no kink.
+    const FrontPart part = front_part(emitter_, t.v[0], nt);
+    const bool far = separation > 4 * std::sqrt(std::max(1.0, lobe_.exponent));
+    double G = 0;
+    for (int k = 0; k < part.count; ++k) {
+      const Triangle& piece = part.pieces[k];
+      if (far) {
+        G += apply_rule(triangle_rule_degree5(), piece, flux_from);
+      } else {
+        const double ratio = piece.max_edge_length() / t.max_edge_length();
+        const int min_depth = lobe_.exponent > 8 ? std::clamp(static_cast<int>(std::ceil(std::log2(ratio))), 0, 4) : 0;
+        G += integrate_graded(piece, flux_from, min_depth, kRelTolerance, 1e-12 * area_);
+      }
     }
     const double average = normalisation() * G / t.area();
     if (!(average > 0)) return 0;
