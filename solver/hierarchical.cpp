@@ -102,6 +102,13 @@ double link_weight(const Point3& p, const Vector3& np, const Point3& q, const Ve
   return std::max(0.0, dot(np, d)) * std::max(0.0, -dot(nq, d)) / (r2 * r2);
 }
 
+// Barycentric coordinates, in the parent, of child c's vertex n: split4's children are {v0, m01, m20},
+// {m01, v1, m12}, {m20, m12, v2}, {m01, m12, m20}. Push-down evaluates the parent's linear field there.
+constexpr double kChildVertex[4][3][3] = {{{1, 0, 0}, {0.5, 0.5, 0}, {0.5, 0, 0.5}},
+                                          {{0.5, 0.5, 0}, {0, 1, 0}, {0, 0.5, 0.5}},
+                                          {{0.5, 0, 0.5}, {0, 0.5, 0.5}, {0, 0, 1}},
+                                          {{0.5, 0.5, 0}, {0, 0.5, 0.5}, {0.5, 0, 0.5}}};
+
 class Hierarchy {
  public:
   std::vector<Element> elements;
@@ -188,14 +195,8 @@ class Hierarchy {
   }
 
   // FV[k] = F V[k] over the leaves: pull, gather, push (the parent's linear field evaluated at the
-  // child's vertices: split4's children are {v0, m01, m20}, {m01, v1, m12}, {m20, m12, v2},
-  // {m01, m12, m20}), the leaf's mean, closure scaling.
+  // child's vertices, kChildVertex), the leaf's mean; with `scaled`, F' = D_r F D_c (balance()).
   void apply(const std::vector<const double*>& V, const std::vector<double*>& FV, bool scaled = true) const {
-    static constexpr double kChildVertex[4][3][3] = {
-        {{1, 0, 0}, {0.5, 0.5, 0}, {0.5, 0, 0.5}},
-        {{0.5, 0.5, 0}, {0, 1, 0}, {0, 0.5, 0.5}},
-        {{0.5, 0, 0.5}, {0, 0.5, 0.5}, {0, 0, 1}},
-        {{0.5, 0.5, 0}, {0, 0.5, 0.5}, {0.5, 0, 0.5}}};
     Values v;
     pull(V, v, scaled ? source_scale.data() : nullptr);
     const std::size_t K = V.size();
@@ -229,11 +230,6 @@ class Hierarchy {
   // reverse (leaf mean, push-down, gather, pull). Sources receive from receivers of other roots, so
   // each thread accumulates into its own copy of the element and cluster adjoints.
   void apply_transpose(const double* W, double* out) const {
-    static constexpr double kChildVertex[4][3][3] = {
-        {{1, 0, 0}, {0.5, 0.5, 0}, {0.5, 0, 0.5}},
-        {{0.5, 0.5, 0}, {0, 1, 0}, {0, 0.5, 0.5}},
-        {{0.5, 0, 0.5}, {0, 0.5, 0.5}, {0, 0, 1}},
-        {{0.5, 0.5, 0}, {0, 0.5, 0.5}, {0.5, 0, 0.5}}};
     const std::size_t E = elements.size();
     tbb::enumerable_thread_specific<std::vector<double>> adjoints(std::vector<double>(E + 6 * clusters.size(), 0.0));
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, root_block.size(), 8), [&](const auto& range) {
