@@ -186,6 +186,30 @@ TEST(AreaFormFactor, FarFieldShortcutIsAccurate) {
   }
 }
 
+TEST(FrontPart, ClipsATriangleAtAPlaneKeepingOrientationAndArea) {
+  // The unit right triangle in z = 0 against planes x = c (normal +x): the part in front has area
+  // (1 − c)²/2 for 0 ≤ c ≤ 1; one vertex in front gives one piece, two give two.
+  const Triangle t{{Point3{0, 0, 0}, Point3{1, 0, 0}, Point3{0, 1, 0}}};
+  for (double c : {0.25, 0.5, 0.9}) {
+    const FrontPart part = front_part(t, Point3{c, 0, 0}, Vector3{1, 0, 0});
+    ASSERT_TRUE(part.cut) << c;
+    ASSERT_EQ(part.count, 1) << c;
+    EXPECT_NEAR(part.pieces[0].area(), 0.5 * (1 - c) * (1 - c), 1e-15) << c;
+    EXPECT_GT(dot(part.pieces[0].area_vector(), t.area_vector()), 0) << c;
+    const FrontPart back = front_part(t, Point3{c, 0, 0}, Vector3{-1, 0, 0});  // the other side
+    ASSERT_EQ(back.count, 2) << c;
+    EXPECT_NEAR(back.pieces[0].area() + back.pieces[1].area(), 0.5 - 0.5 * (1 - c) * (1 - c), 1e-15) << c;
+    for (int k = 0; k < 2; ++k) EXPECT_GT(dot(back.pieces[k].area_vector(), t.area_vector()), 0) << c;
+  }
+  // Not cut: wholly in front, wholly behind, a vertex or an edge on the plane (within round-off).
+  EXPECT_EQ(front_part(t, Point3{-1, 0, 0}, Vector3{1, 0, 0}).count, 1);
+  EXPECT_EQ(front_part(t, Point3{2, 0, 0}, Vector3{1, 0, 0}).count, 0);
+  const FrontPart touching = front_part(t, Point3{1e-17, 0, 0}, Vector3{1, 0, 0});
+  EXPECT_FALSE(touching.cut);
+  EXPECT_EQ(touching.count, 1);
+  EXPECT_EQ(front_part(t, Point3{0, 0, 0}, Vector3{0, 0, 1}).count, 0);  // t lies in the plane
+}
+
 TEST(AreaFormFactor, PairsWhosePlanesCutEachOther) {
   // A floor x ∈ [0, 1], y ∈ [−w, w] (two triangles, each cut by the plane y = 0) and a wall in that
   // plane facing +y, x ∈ [0, 1], z ∈ [a, b]. Only the half y > 0 sees the wall, so by Howell C-14 and
