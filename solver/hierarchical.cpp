@@ -1030,12 +1030,12 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
           const Point3& p = probe.points[q];
           const Point3 from = vis.lift(p, n);
           double* e = &E[q * K];
-          auto add_element = [&](int s, double f) {
-            const Element& S = h.elements[s];
-            const double v = weighted_visible_fraction(
+          // Rays to an element's samples, 16 before the first vote (as for links: four unanimous rays
+          // to a coarse element miss small occluders).
+          auto element_visibility = [&](const Element& S) {
+            return weighted_visible_fraction(
                 vis, [&](int j) { return std::pair{from, vis.lift(visibility_sample(S.tri, j), S.normal)}; },
-                [&](const Point3&, const Point3& qq) { return link_weight(p, n, qq, S.normal); });
-            for (std::size_t kk = 0; kk < K; ++kk) e[kk] += f * v * values.B[s * K + kk];
+                [&](const Point3&, const Point3& qq) { return link_weight(p, n, qq, S.normal); }, 16);
           };
           stack.assign(1, -1);  // −1 − c: cluster c; ≥ 0: element
           while (!stack.empty()) {
@@ -1045,11 +1045,23 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
               const Element& S = h.elements[node];
               const double f = point_triangle_factor(p, n, S.tri);
               if (f <= 0) continue;
-              if (S.first_child >= 0 && f * (hi[node] - lo[node]) > e_tolerance) {
-                for (int c = 0; c < 4; ++c) stack.push_back(S.first_child + c);
-              } else {
-                add_element(node, f);
+              const bool splittable = S.first_child >= 0;
+              // An element is taken whole where its radiosity varies little (f × spread within the
+              // tolerance) and it is wholly visible or hidden: the visible part of a partly hidden
+              // element need not have its mean radiosity (a probe under a floating cube read 3 %
+              // high when partly hidden elements were taken whole).
+              double v = -1;
+              if (splittable && f * (hi[node] - lo[node]) <= e_tolerance) {
+                v = element_visibility(S);
+                if (v > 0 && v < 1 && f * std::max(std::abs(lo[node]), std::abs(hi[node])) > e_tolerance) v = -1;
+              } else if (!splittable) {
+                v = element_visibility(S);
               }
+              if (v < 0) {
+                for (int c = 0; c < 4; ++c) stack.push_back(S.first_child + c);
+                continue;
+              }
+              for (std::size_t kk = 0; kk < K; ++kk) e[kk] += f * v * values.B[node * K + kk];
               continue;
             }
             const int c = -1 - node;

@@ -108,14 +108,14 @@ SceneBuilder lit_room(double max_patch_area) {
   return b;
 }
 
-// DISABLED (open work): measured surface means within 0.5 % for the room and the cube, −1.3 % for the
-// panel against the dense solver, and the probe under the cube +3.2 % (the others within 1 %). With
-// rows scaled alone (before the two-sided balance) the cube was −0.8 % and the panel −1.8 %; before
-// shaft culling and corner-first rays −0.6 %, −0.6 %, −2.5 % and −19 % for the probe under the cube.
-TEST(Hierarchical, DISABLED_AgreesWithDenseSolver) {
+// At the default accuracy (1e-3) the panel's mean is 1.3 % low (its links to the room are the coarsest);
+// it converges with the accuracy: −0.5 % at 3e-4, −0.2 % at 1e-4. The probe under the cube read 3 %
+// high at every accuracy until partly hidden elements were no longer taken whole by the probes.
+TEST(Hierarchical, AgreesWithDenseSolver) {
   // Second method: the dense solver (every pair, exact kernel) on the same mesh size. Surface means
-  // within 0.5 %, probes within 1 %.
+  // within 0.5 %, probes within 0.5 % (measured 0.25 % at most), at accuracy 1e-4.
   SceneBuilder b = lit_room(0.1);
+  b.scene().solver.accuracy = 1e-4;
   const Solution dense = solve_with(b.scene(), SolverMethod::Dense);
   const Solution hier = solve_with(b.scene(), SolverMethod::Hierarchical);
   for (int s = 0; s < 3; ++s) {
@@ -123,7 +123,7 @@ TEST(Hierarchical, DISABLED_AgreesWithDenseSolver) {
     EXPECT_NEAR(hh, d, 5e-3 * d) << "surface " << s;
   }
   for (std::size_t p = 0; p < dense.probes.size(); ++p)
-    EXPECT_NEAR(hier.probes[p].irradiance[0], dense.probes[p].irradiance[0], 1e-2 * dense.probes[p].irradiance[0])
+    EXPECT_NEAR(hier.probes[p].irradiance[0], dense.probes[p].irradiance[0], 5e-3 * dense.probes[p].irradiance[0])
         << "probe " << p;
   EXPECT_LT(hier.stats.links, dense.stats.links);
 }
