@@ -71,6 +71,54 @@ SmallPolygon clip_to_region(const Triangle& t, std::span<const HalfSpace> region
   return part;
 }
 
+double signed_area(const Loop2d& loop) {
+  double a = 0;
+  for (std::size_t i = 0, n = loop.size(); i < n; ++i) {
+    const Point2d& u = loop[i];
+    const Point2d& w = loop[(i + 1) % n];
+    a += u[0] * w[1] - w[0] * u[1];
+  }
+  return 0.5 * a;
+}
+
+// The part of convex `subject` inside convex counter-clockwise `clip` (Sutherland–Hodgman, doubles).
+Loop2d clip_convex(const Loop2d& subject, const Loop2d& clip) {
+  Loop2d out = subject;
+  for (std::size_t e = 0, m = clip.size(); e < m && out.size() >= 3; ++e) {
+    const Point2d& a = clip[e];
+    const Point2d& b = clip[(e + 1) % m];
+    auto side = [&](const Point2d& q) { return (b[0] - a[0]) * (q[1] - a[1]) - (b[1] - a[1]) * (q[0] - a[0]); };
+    Loop2d next;
+    for (std::size_t i = 0, n = out.size(); i < n; ++i) {
+      const Point2d& u = out[i];
+      const Point2d& w = out[(i + 1) % n];
+      const double su = side(u), sw = side(w);
+      if (su >= 0) next.push_back(u);
+      if ((su >= 0) != (sw >= 0)) {
+        const double t = su / (su - sw);
+        next.push_back({u[0] + (w[0] - u[0]) * t, u[1] + (w[1] - u[1]) * t});
+      }
+    }
+    out = std::move(next);
+  }
+  return out;
+}
+
+// S minus the union of a few convex shadows as signed convex loops, by inclusion–exclusion:
+// ∫_{S∖∪A_k} = Σ over subsets K of (−1)^|K| ∫_{S∩A_K}. Each intersection is convex (clipped in
+// doubles); negative terms are stored clockwise, so the contour sum subtracts them. Subsets whose
+// intersection is empty (area below `negligible`) are pruned with all their supersets.
+void inclusion_exclusion(const Loop2d& current, std::size_t next, bool positive, std::span<const Loop2d> shadows,
+                         double negligible, std::vector<Loop2d>& loops) {
+  loops.push_back(current);
+  if (!positive) std::reverse(loops.back().begin(), loops.back().end());
+  for (std::size_t k = next; k < shadows.size(); ++k) {
+    const Loop2d part = clip_convex(current, shadows[k]);
+    if (part.size() < 3 || std::abs(signed_area(part)) <= negligible) continue;
+    inclusion_exclusion(part, k + 1, !positive, shadows, negligible, loops);
+  }
+}
+
 // Whether a box lies wholly outside the half-space (its farthest corner along the normal is outside).
 bool box_outside(const Bounds3& box, const HalfSpace& h) {
   const Point3 far{h.normal.x >= 0 ? box.hi.x : box.lo.x, h.normal.y >= 0 ? box.hi.y : box.lo.y,
@@ -225,6 +273,15 @@ ExactVisibility::VisibleRegion ExactVisibility::visible_region(const Point3& p_w
     return out;
   }
   booleans_.fetch_add(1, std::memory_order_relaxed);
+  // A few shadows (the usual case: a box seen from a point casts two to six): inclusion–exclusion over
+  // convex intersections in doubles, with no Boolean operation; many: CGAL's exact difference, whose
+  // cost does not grow as 2^k.
+  if (shadows.size() <= static_cast<std::size_t>(inclusion_exclusion_limit_)) {
+    for (Loop2d& shadow : shadows)
+      if (signed_area(shadow) < 0) std::reverse(shadow.begin(), shadow.end());
+    inclusion_exclusion(source, 0, true, shadows, 1e-15 * std::abs(signed_area(source)), out.loops_);
+    return out;
+  }
   out.loops_ = convex_difference(source, shadows);
   return out;
 }

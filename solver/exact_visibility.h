@@ -3,8 +3,9 @@
 // Where rays find a source partly occluded, the factor of the part that is visible is computed
 // exactly: every occluding triangle between the point and the source's plane is projected centrally
 // from the point onto that plane, the projections are united and subtracted from the source polygon
-// with CGAL's 2D Boolean operations (exact predicates and constructions), and the point-to-polygon
-// contour integral is summed over the visible pieces and their holes. So E = π L F(visible part) holds
+// with CGAL's 2D Boolean operations (exact predicates and constructions) — or, for a few shadows, by
+// inclusion–exclusion over their convex intersections — and the point-to-polygon contour integral is
+// summed over the visible pieces and their holes. So E = π L F(visible part) holds
 // to round-off, for any number and shape of occluders (the CIE 171 case 5.7 geometry, REFERENCES V9).
 // Rays remain the fast path for wholly visible and wholly hidden sources; this is for the rest.
 //
@@ -60,13 +61,19 @@ class ExactVisibility {
   // allowed for rounding. Conservative: an occluder in the hull that blocks no segment also counts.
   bool shaft_is_clear(std::span<const Point3> points) const;
 
-  // Number of visible_factor evaluations that needed the Boolean operations (some occluder projected).
+  // Number of visible_factor evaluations that subtracted shadows (some occluder projected).
   std::uint64_t boolean_evaluations() const { return booleans_.load(std::memory_order_relaxed); }
+
+  // Up to this many shadows, the visible part is formed by inclusion–exclusion over convex
+  // intersections (2^k terms at most, in doubles); beyond it by CGAL's exact Boolean difference. Both
+  // give the same factor (tests/exact_visibility_test.cpp); 0 forces the Boolean operations.
+  void set_inclusion_exclusion_limit(int shadows) { inclusion_exclusion_limit_ = shadows; }
 
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
   mutable std::atomic<std::uint64_t> booleans_{0};
+  int inclusion_exclusion_limit_ = 8;
 };
 
 }  // namespace lambert
