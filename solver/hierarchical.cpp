@@ -296,6 +296,10 @@ class Hierarchy {
   bool has_children(int e) const { return elements[e].first_child >= 0; }
 };
 
+void check_cancel(const SolveControl& control) {
+  if (control.cancel && control.cancel->load(std::memory_order_relaxed)) throw SolveCancelled();
+}
+
 // Closure and conservation. The links are estimates (rays, fits, cluster approximations) and not
 // reciprocal, so their row sums Σ_j F_ij (what leaf i gathers of a uniform radiosity) and their
 // area-weighted column sums Σ_i A_i F_ij / A_j (what the scene gathers of leaf j's power) both miss 1
@@ -306,7 +310,8 @@ class Hierarchy {
 // one apply() and one apply_transpose(), and the error halves per sweep; the scales of the previous
 // refinement round, whose links mostly remain, are the starting point. Returns the largest row-sum
 // error of a closed leaf before any scaling (stats.max_closure_error).
-double balance(Hierarchy& h, const std::vector<char>& closed, const std::vector<Patch>& patches) {
+double balance(Hierarchy& h, const std::vector<char>& closed, const std::vector<Patch>& patches,
+               const SolveControl& control) {
   const std::size_t N = h.leaves.size();
   std::vector<double> rows(N, 1.0), weighted(N), cols(N);
   double raw_error = 0;
@@ -330,7 +335,11 @@ double balance(Hierarchy& h, const std::vector<char>& closed, const std::vector<
     }
     return row_error;
   };
+  // Stops at convergence, or when ten sweeps have not halved the error (leaves partly inside solids,
+  // whose rows and columns are free, can make the balance crawl: it would cost sweeps, not accuracy).
+  double best = 1e300, best_ten_ago = 1e300;
   for (int sweep = 0; sweep < kMaxBalanceSweeps; ++sweep) {
+    check_cancel(control);
     const double row_error = scale_rows();
     for (std::size_t i = 0; i < N; ++i) weighted[i] = patches[i].area_m2 * h.leaf_scale[i];
     h.apply_transpose(weighted.data(), cols.data());  // Σ_i A_i d_r,i F_ij
@@ -341,11 +350,17 @@ double balance(Hierarchy& h, const std::vector<char>& closed, const std::vector<
       if (closed[j] == 1 && C > 0) col_error = std::max(col_error, std::abs(1 - C));
       h.source_scale[j] = t > 0 && (closed[j] == 1 || (closed[j] == 0 && t > 1)) ? 1 / t : 1.0;
     }
-    if (std::max(row_error, col_error) < 1e-11) break;
+    const double error = std::max(row_error, col_error);
+    if (error < 1e-11) break;
+    best = std::min(best, error);
+    if (sweep % 10 == 9) {
+      if (best > 0.5 * best_ten_ago) break;
+      best_ten_ago = best;
+    }
   }
-  // Rows last: a furnace with ρ = 0.999 multiplies a row's error by 1000. Where the sweeps have not
-  // converged (leaves partly inside solids, whose rows and columns are free, can make that slow),
-  // the columns keep a small error, which the energy certificate shows as imbalance.
+  // Rows last: a furnace with ρ = 0.999 multiplies a row's error by 1000. Where the sweeps stopped
+  // short of convergence, the columns keep a small error, which the energy certificate shows as
+  // imbalance.
   scale_rows();
   return raw_error;
 }
@@ -669,10 +684,6 @@ char hemisphere_is_closed(const Element& e, std::size_t i, int rays, const Visib
   });
 }
 
-void check_cancel(const SolveControl& control) {
-  if (control.cancel && control.cancel->load(std::memory_order_relaxed)) throw SolveCancelled();
-}
-
 }  // namespace
 
 Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
@@ -931,7 +942,7 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
             closed[i] = hemisphere_is_closed(h.elements[h.leaves[i]], i, rays, vis, occluder_normals, occluder_two_sided);
         });
       }
-      sol.stats.max_closure_error = balance(h, closed, sol.patches);
+      sol.stats.max_closure_error = balance(h, closed, sol.patches, control);
       time_links += seconds_since(t1);
       report(0.1 + 0.2 * (round + 1));
 
