@@ -311,6 +311,12 @@ Point3 midpoint(const Point3& a, const Point3& b) {
   return {0.5 * (a.x + b.x), 0.5 * (a.y + b.y), 0.5 * (a.z + b.z)};
 }
 
+// A patch is too large when its area exceeds the limit A, or when its longest edge exceeds √(8A): a
+// well-shaped patch of area A has L² ≤ 4A (2.3A equilateral), so only slivers (from the input, e.g. a
+// floor triangulated around a box's footprint) are split for length: a constant-radiosity sliver
+// reaching from a shadow into the light carries the light's radiosity right up to the box.
+constexpr double kMaxEdgeSquaredPerArea = 8;
+
 // Rivara's longest-edge propagation path (LEPP) bisection on an OpenMesh triangle mesh: to split a
 // face, walk to the neighbour across the longest edge until that edge is also the neighbour's
 // longest ("terminal edge"), split the terminal edge at its midpoint (splitting both faces, so the
@@ -361,7 +367,8 @@ class LeppSubdivider {
 
   void push_if_too_large(OmTriMesh::FaceHandle f) {
     const double a = face_area(f);
-    if (a > max_area_) heap_.emplace(a, f.idx());
+    if (a > max_area_ || edge_length_squared(m_.edge_handle(longest_halfedge(f))) > kMaxEdgeSquaredPerArea * max_area_)
+      heap_.emplace(a, f.idx());
   }
 
   void refine(OmTriMesh::FaceHandle f) {
@@ -413,15 +420,15 @@ void bisect_alone(std::array<int, 3> t, double max_area, std::vector<Point3>& ve
     t = stack.back();
     stack.pop_back();
     const Point3 p[3] = {vertices[t[0]], vertices[t[1]], vertices[t[2]]};
-    if (!(triangle_area(p[0], p[1], p[2]) > max_area)) {
-      out.push_back(t);
-      continue;
-    }
     int k = 0;  // longest edge t[k] -> t[k+1]
     double longest = -1;
     for (int i = 0; i < 3; ++i) {
       const double l = length_squared(p[(i + 1) % 3] - p[i]);
       if (l > longest) longest = l, k = i;
+    }
+    if (!(triangle_area(p[0], p[1], p[2]) > max_area) && !(longest > kMaxEdgeSquaredPerArea * max_area)) {
+      out.push_back(t);
+      continue;
     }
     const int m = static_cast<int>(vertices.size());
     vertices.push_back(midpoint(p[k], p[(k + 1) % 3]));
@@ -448,9 +455,11 @@ SubdividedMesh subdivide_to_max_area_with_parents(const TriangleMesh& mesh, doub
     const bool valid = std::all_of(i.begin(), i.end(), [&](int k) { return k >= 0 && k < nv; }) &&
                        i[0] != i[1] && i[1] != i[2] && i[2] != i[0];
     if (!valid) continue;
-    const double a = mesh.triangle(t).area();
-    splittable[t] = std::isfinite(a);
-    any_too_large = any_too_large || (splittable[t] && max_area > 0 && a > max_area);
+    const Triangle tri = mesh.triangle(t);
+    const double a = tri.area(), longest = tri.max_edge_length();
+    splittable[t] = std::isfinite(a) && std::isfinite(longest);
+    any_too_large = any_too_large || (splittable[t] && max_area > 0 &&
+                                      (a > max_area || longest * longest > kMaxEdgeSquaredPerArea * max_area));
   }
   if (!(max_area > 0) || !std::isfinite(max_area) || !any_too_large) {
     result.mesh = mesh;
