@@ -485,6 +485,25 @@ TEST(Subdivide, SliverKeepsRivaraAngleBound) {
   }
 }
 
+TEST(Subdivide, SliversAreSplitForLengthWellShapedPatchesAreNot) {
+  // A sliver below the area limit (40 × 0.05, area 1, limit 2) is still split until its longest
+  // edge is at most √(8 · 2) = 4; a right isosceles triangle of area 1.9 (edges up to √7.6) and the
+  // unit square's halves at limit 0.5 are left as they are.
+  TriangleMesh sliver;
+  sliver.vertices = {{0, 0, 0}, {40, 0, 0}, {0, 0.05, 0}};
+  sliver.triangles = {{0, 1, 2}};
+  const TriangleMesh s = subdivide_to_max_area(sliver, 2.0);
+  EXPECT_GE(s.triangles.size(), 10u);
+  EXPECT_NEAR(total_area(s), 1.0, 1e-12);
+  for (std::size_t t = 0; t < s.triangles.size(); ++t) EXPECT_LE(s.triangle(t).max_edge_length(), 4 + 1e-12);
+  TriangleMesh right;
+  const double leg = std::sqrt(3.8);
+  right.vertices = {{0, 0, 0}, {leg, 0, 0}, {0, leg, 0}};
+  right.triangles = {{0, 1, 2}};
+  EXPECT_EQ(subdivide_to_max_area(right, 2.0).triangles.size(), 1u);
+  EXPECT_EQ(subdivide_to_max_area(unit_square(), 0.5).triangles.size(), 2u);
+}
+
 TEST(Subdivide, OrientationFollowsEachParent) {
   // A closed cube: every child must face outwards like its parent (normal agrees).
   const TriangleMesh cube = unit_cube();
