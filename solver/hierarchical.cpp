@@ -313,15 +313,16 @@ void check_cancel(const SolveControl& control) {
 double balance(Hierarchy& h, const std::vector<char>& closed, const std::vector<Patch>& patches,
                const SolveControl& control) {
   const std::size_t N = h.leaves.size();
-  std::vector<double> rows(N, 1.0), weighted(N), cols(N);
+  std::vector<double> rows(N), weighted(N), cols(N), raw(N);
   double raw_error = 0;
-  h.apply({rows.data()}, {cols.data()}, false);  // Σ_j F_ij, unscaled
+  const std::vector<double> ones(N, 1.0);
+  h.apply({ones.data()}, {raw.data()}, false);  // Σ_j F_ij, unscaled
   // Rows held at 1: closed leaves, and leaking ones (some probe rays met back faces) whose links
   // already gather a whole hemisphere. Columns held at 1: closed leaves; capped at 1: open ones.
   std::vector<char> full_row(N);
   for (std::size_t i = 0; i < N; ++i) {
-    if (closed[i] == 1 && cols[i] > 0) raw_error = std::max(raw_error, std::abs(1 - cols[i]));
-    full_row[i] = closed[i] == 1 || (closed[i] == 2 && cols[i] >= 1);
+    if (closed[i] == 1 && raw[i] > 0) raw_error = std::max(raw_error, std::abs(1 - raw[i]));
+    full_row[i] = closed[i] == 1 || (closed[i] == 2 && raw[i] >= 1);
   }
   if (h.leaf_scale.size() != N) h.leaf_scale.assign(N, 1.0);
   if (h.source_scale.size() != N) h.source_scale.assign(N, 1.0);
