@@ -81,7 +81,9 @@ double signed_area(const Loop2d& loop) {
   return 0.5 * a;
 }
 
-// The part of convex `subject` inside convex counter-clockwise `clip` (Sutherland–Hodgman, doubles).
+// The part of `subject` inside convex counter-clockwise `clip` (Sutherland–Hodgman, doubles). The
+// subject keeps its orientation; a subject that is not convex may come out with edges doubling back
+// along the clip's boundary, which cancel in a contour sum.
 Loop2d clip_convex(const Loop2d& subject, const Loop2d& clip) {
   Loop2d out = subject;
   for (std::size_t e = 0, m = clip.size(); e < m && out.size() >= 3; ++e) {
@@ -287,35 +289,16 @@ ExactVisibility::VisibleRegion ExactVisibility::visible_region(const Point3& p_w
 }
 
 double ExactVisibility::VisibleRegion::factor_of(const Triangle& part) const {
-  // Clip every loop to the part (Sutherland–Hodgman against its three edges, in the source's plane).
-  // A loop that is not convex may come out with edges doubling back along the part's boundary; they
-  // cancel in the contour sum, which only depends on the winding number the clipped loop keeps.
+  // Clip every loop to the part (in the source's plane). A loop that is not convex may come out with
+  // edges doubling back along the part's boundary; they cancel in the contour sum, which only depends
+  // on the winding number the clipped loop keeps.
   Loop2d corners(3);
   for (int k = 0; k < 3; ++k) corners[k] = {dot(part.v[k] - origin_, e1_), dot(part.v[k] - origin_, e2_)};
-  const double orientation = (corners[1][0] - corners[0][0]) * (corners[2][1] - corners[0][1]) -
-                             (corners[2][0] - corners[0][0]) * (corners[1][1] - corners[0][1]);
-  if (orientation < 0) std::swap(corners[1], corners[2]);
+  if (signed_area(corners) < 0) std::swap(corners[1], corners[2]);
   double factor = 0;
   std::vector<Point3> loop3;
   for (const Loop2d& loop : loops_) {
-    Loop2d clipped = loop;
-    for (int e = 0; e < 3 && clipped.size() >= 3; ++e) {
-      const Point2d& a = corners[e];
-      const Point2d& b = corners[(e + 1) % 3];
-      auto side = [&](const Point2d& q) { return (b[0] - a[0]) * (q[1] - a[1]) - (b[1] - a[1]) * (q[0] - a[0]); };
-      Loop2d next;
-      for (std::size_t i = 0, m = clipped.size(); i < m; ++i) {
-        const Point2d& u = clipped[i];
-        const Point2d& w = clipped[(i + 1) % m];
-        const double su = side(u), sw = side(w);
-        if (su >= 0) next.push_back(u);
-        if ((su >= 0) != (sw >= 0)) {
-          const double t = su / (su - sw);
-          next.push_back({u[0] + (w[0] - u[0]) * t, u[1] + (w[1] - u[1]) * t});
-        }
-      }
-      clipped = std::move(next);
-    }
+    const Loop2d clipped = clip_convex(loop, corners);
     if (clipped.size() < 3) continue;
     loop3.clear();
     for (const Point2d& y : clipped) loop3.push_back(origin_ + e1_ * y[0] + e2_ * y[1]);
