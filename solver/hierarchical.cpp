@@ -96,12 +96,6 @@ bool box_in_front(const Bounds3& box, const Point3& o, const Vector3& n, double 
   return false;
 }
 
-double link_weight(const Point3& p, const Vector3& np, const Point3& q, const Vector3& nq) {
-  const Vector3 d = q - p;
-  const double r2 = length_squared(d);
-  return std::max(0.0, dot(np, d)) * std::max(0.0, -dot(nq, d)) / (r2 * r2);
-}
-
 // Barycentric coordinates, in the parent, of child c's vertex n: split4's children are {v0, m01, m20},
 // {m01, v1, m12}, {m20, m12, v2}, {m01, m12, m20}. Push-down evaluates the parent's linear field there.
 constexpr double kChildVertex[4][3][3] = {{{1, 0, 0}, {0.5, 0.5, 0}, {0.5, 0, 0.5}},

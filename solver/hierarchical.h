@@ -12,8 +12,8 @@
 //
 // Links gather into elements only. An element→element link carries the exact point-to-polygon kernel
 // averaged over the receiver (adaptive cubature for near pairs) times a kernel-weighted ray-traced
-// visible fraction (4, 16 or 64 rays, as the link needs). A cluster→element link carries the cluster's
-// radiant intensity I(ω) = Σ_k (ω·e_k)⁺ Φ_k / π, with Φ_k = Σ_j B_j A_j (n_j·e_k)⁺ the cluster's
+// visible fraction (16 rays, 64 where they disagree; none where the shaft between two elements that
+// are not both leaves is clear). A cluster→element link carries the cluster's radiant intensity I(ω) = Σ_k (ω·e_k)⁺ Φ_k / π, with Φ_k = Σ_j B_j A_j (n_j·e_k)⁺ the cluster's
 // radiosity-weighted projected area on the six axis directions (exact for axis-aligned elements), over
 // the squared distance, times a visible fraction from rays to points of the cluster's triangles.
 //

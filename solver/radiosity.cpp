@@ -40,14 +40,6 @@ void check_cancel(const SolveControl& control) {
   if (control.cancel && control.cancel->load(std::memory_order_relaxed)) throw SolveCancelled();
 }
 
-// The differential form-factor kernel cos θ_p cos θ_q / r² (up to 1/π) between two oriented points;
-// the weight of a visibility ray.
-double link_weight(const Point3& p, const Vector3& np, const Point3& q, const Vector3& nq) {
-  const Vector3 d = q - p;
-  const double r2 = length_squared(d);
-  return std::max(0.0, dot(np, d)) * std::max(0.0, -dot(nq, d)) / (r2 * r2);
-}
-
 // Visible fractions between patch a and each of `partners` (indices into `patches`); each ray weighted
 // by the differential kernel at its ends (visible_fraction.h, traced as one stream per round).
 std::size_t patch_visible_fractions(const Patch& a, std::span<const std::size_t> partners,

@@ -4,6 +4,7 @@
 // visible and fully hidden links (the vast majority) cost 4 rays.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstddef>
@@ -32,6 +33,14 @@ inline Point3 visibility_sample(const Triangle& t, int k) {
 // is caught by the first four rays), the rest follow a fixed odd-multiplier permutation that pairs
 // cells that do not correspond.
 constexpr int paired_sample(int k) { return k < 4 ? (k + 1) % 4 : 4 + (37 * k + 11) % 60; }
+
+// The differential form-factor kernel cos θ_p cos θ_q / r² (up to 1/π) between two oriented points
+// (p with unit normal np, q with nq); the weight of a visibility ray.
+inline double link_weight(const Point3& p, const Vector3& np, const Point3& q, const Vector3& nq) {
+  const Vector3 d = q - p;
+  const double r2 = length_squared(d);
+  return std::max(0.0, dot(np, d)) * std::max(0.0, -dot(nq, d)) / (r2 * r2);
+}
 
 // The running vote of a link's rays: visible share of the kernel weight, and whether the rays traced
 // so far agree.
