@@ -475,7 +475,7 @@ SliverMerge merge_sliver_regions(const TriangleMesh& mesh, double tolerance) {
   for (auto& [key, region] : regions) {
     if (!region.has_sliver || region.triangles.size() < 2) continue;
     const Vector3& n = region.n;
-    const Vector3 u = normalize(std::abs(n.x) < 0.9 ? cross(n, Vector3{1, 0, 0}) : cross(n, Vector3{0, 1, 0}));
+    const Vector3 u = perpendicular(n);
     const Vector3 v = cross(n, u);  // (u, v, n) right-handed: counter-clockwise about n is CCW in (u, v)
     std::vector<Loop2d> parts;
     for (int t : region.triangles) {

@@ -44,6 +44,11 @@ inline double length(const Vector3& v) { return std::sqrt(dot(v, v)); }
 constexpr double length_squared(const Vector3& v) { return dot(v, v); }
 inline Vector3 normalize(const Vector3& v) { return v / length(v); }
 inline double distance(const Point3& a, const Point3& b) { return length(a - b); }
+// A unit vector perpendicular to the unit vector n (with cross(n, perpendicular(n)), an orthonormal
+// right-handed frame about n). Crosses n with the axis it is farthest from, so it never degenerates.
+inline Vector3 perpendicular(const Vector3& n) {
+  return normalize(std::abs(n.x) < 0.9 ? cross(n, Vector3{1, 0, 0}) : cross(n, Vector3{0, 1, 0}));
+}
 constexpr Vector3 to_vector(const Point3& p) { return {p.x, p.y, p.z}; }
 constexpr Point3 to_point(const Vector3& v) { return {v.x, v.y, v.z}; }
 // Affine combination w0 a + w1 b + w2 c with w0 + w1 + w2 = 1 (barycentric point).

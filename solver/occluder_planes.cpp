@@ -63,7 +63,7 @@ OccluderPlanes::OccluderPlanes(std::span<const Triangle> triangles) {
       return;  // not usable
     }
     // The bounding rectangle of the plane's triangles in an orthonormal frame (u, v) of the plane.
-    const Vector3 u = normalize(std::abs(plane.n.x) < 0.9 ? cross(plane.n, Vector3{1, 0, 0}) : cross(plane.n, Vector3{0, 1, 0}));
+    const Vector3 u = perpendicular(plane.n);
     const Vector3 v = cross(plane.n, u);
     double lo_u = 1e300, hi_u = -1e300, lo_v = 1e300, hi_v = -1e300;
     for (const Vector3& r : c.vertices) {

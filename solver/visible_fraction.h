@@ -137,7 +137,7 @@ std::size_t weighted_visible_fractions(const Visibility& vis, std::size_t count,
 template <class HitsBack>
 char probe_hemisphere(const Triangle& tri, const Vector3& n, std::size_t seed, int rays, const Visibility& vis,
                       HitsBack&& hits_back) {
-  const Vector3 t = normalize(std::abs(n.x) < 0.9 ? cross(n, Vector3{1, 0, 0}) : cross(n, Vector3{0, 1, 0}));
+  const Vector3 t = perpendicular(n);
   const Vector3 s = cross(n, t);
   const double reach = vis.scene_extent();
   constexpr double kGolden = 0.6180339887498949;  // (√5 − 1)/2

@@ -102,7 +102,7 @@ double log_cos(double psi) {
 struct Frame {
   Vector3 a, b, c;
   explicit Frame(const Vector3& axis) : c(axis) {
-    a = normalize(std::abs(c.x) < 0.9 ? cross(c, Vector3{1, 0, 0}) : cross(c, Vector3{0, 1, 0}));
+    a = perpendicular(c);
     b = cross(c, a);
   }
   double azimuth(const Vector3& v) const {
