@@ -1595,12 +1595,14 @@ void Decoder::decode_probe(const json& j, std::size_t i, std::map<std::string, s
 
 void Decoder::decode_options(const json& doc) {
   const json* m = member(doc, "meshing");
-  if (m && object(*m, "/meshing", {"max_patch_area", "adaptive"})) {
+  if (m && object(*m, "/meshing", {"max_patch_area", "adaptive", "refine_direct"})) {
     if (const json* a = member(*m, "max_patch_area"))
       if (auto v = number_in(*a, "/meshing/max_patch_area", 0, false, INFINITY, false))
         scene_.meshing.max_patch_area_m2 = *v * scene_.unit_m * scene_.unit_m;  // units² -> m²
     if (const json* a = member(*m, "adaptive"))
       if (auto v = boolean(*a, "/meshing/adaptive")) scene_.meshing.adaptive = *v;
+    if (const json* r = member(*m, "refine_direct"))
+      if (auto v = boolean(*r, "/meshing/refine_direct")) scene_.meshing.refine_direct = *v;
   }
   const json* s = member(doc, "solver");
   if (s && object(*s, "/solver", {"tolerance", "max_iterations", "method", "accuracy"})) {

@@ -55,6 +55,7 @@ struct SolveStats {
   double contact_area_m2 = 0;            // face-to-face contact area removed (both faces counted)
   std::size_t enclosed_patches = 0;      // patches inside closed solids, left out of the result
   int adaptive_rounds = 0;             // meshing.adaptive: how many refine-and-solve rounds ran
+  std::size_t direct_refinement_patches = 0;  // meshing.refine_direct: patches added before the solve
 };
 
 // One source's share of the solution (output.per_source). The radiosity equation is linear in the

@@ -75,6 +75,9 @@ struct Probe {
 struct MeshingOptions {
   std::optional<double> max_patch_area_m2;  // absent: chosen from the scene's size
   bool adaptive = false;
+  // Dense solver: split patches where the direct irradiance varies before the solve (radiosity.cpp,
+  // refine_where_direct_light_varies).
+  bool refine_direct = true;
 };
 
 // Dense: every patch pair (N² factors, exact up to ray noise; memory 8 N² bytes).

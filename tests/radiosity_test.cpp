@@ -292,36 +292,74 @@ double shadow_representation_error(const Solution& sol) {
   return error / total;
 }
 
+// The shadowed floor of shadow_representation_error, meshed uniformly (refine_direct off), refined
+// from the direct light before the solve (refine_direct), or refined after solves (adaptive).
+Solution shadowed_floor(bool refine_direct, bool adaptive) {
+  SceneBuilder b;
+  const int black = b.material("black", 0.0);
+  b.surface("floor", black, rectangle({-1, -1, 0}, {2, 0, 0}, {0, 2, 0}));
+  b.surface("blocker", black, rectangle({0.1, 0.0, 1}, {0, 0.4, 0}, {0.4, 0, 0}));
+  b.point_light({0, 0, 2}, 1.0);
+  b.max_patch_area(4.0 / 128);
+  b.scene().meshing.refine_direct = refine_direct;
+  b.scene().meshing.adaptive = adaptive;
+  return solve(b.scene());
+}
+
+// The floor's flux is exact: I (Ω(floor) − Ω(blocker)) seen from the source (P6, solid angles of
+// the triangles); the shadow's partly covered patches carry the error, which refinement shrinks.
+double shadowed_floor_flux_error(const Solution& sol) {
+  double exact = 0;
+  for (const Triangle& t : rectangle({-1, -1, 0}, {2, 0, 0}, {0, 2, 0})) exact += triangle_solid_angle({0, 0, 2}, t);
+  for (const Triangle& t : rectangle({0.1, 0.0, 1}, {0, 0.4, 0}, {0.4, 0, 0})) exact -= triangle_solid_angle({0, 0, 2}, t);
+  double flux = 0;
+  for (std::size_t i = 0; i < sol.patches.size(); ++i)
+    if (sol.patches[i].surface == 0) flux += sol.patches[i].area_m2 * sol.irradiance[i];
+  return std::abs(flux - exact) / exact;
+}
+
 TEST(AdaptiveMeshing, RefinesAtTheShadowEdgeAndLowersTheError) {
-  auto build = [](bool adaptive) {
-    SceneBuilder b;
-    const int black = b.material("black", 0.0);
-    b.surface("floor", black, rectangle({-1, -1, 0}, {2, 0, 0}, {0, 2, 0}));
-    b.surface("blocker", black, rectangle({0.1, 0.0, 1}, {0, 0.4, 0}, {0.4, 0, 0}));
-    b.point_light({0, 0, 2}, 1.0);
-    b.max_patch_area(4.0 / 128);
-    b.scene().meshing.adaptive = adaptive;
-    return solve(b.scene());
-  };
-  const Solution uniform = build(false), adaptive = build(true);
+  const Solution uniform = shadowed_floor(false, false), adaptive = shadowed_floor(false, true);
   const double e_uniform = shadow_representation_error(uniform), e_adaptive = shadow_representation_error(adaptive);
+  EXPECT_EQ(uniform.stats.direct_refinement_patches, 0u);
   EXPECT_GE(adaptive.stats.adaptive_rounds, 1);
   EXPECT_GT(adaptive.patches.size(), uniform.patches.size());
   // Refined locally, not everywhere: two uniform 1:4 levels would give 16 times the patches.
   EXPECT_LT(adaptive.patches.size(), 16 * uniform.patches.size() / 3);
   EXPECT_LT(e_adaptive, 0.6 * e_uniform) << e_uniform << " -> " << e_adaptive;
-  // The floor's flux is exact: I (Ω(floor) − Ω(blocker)) seen from the source (P6, solid angles of
-  // the triangles); the shadow's partly covered patches carry the error, which refinement shrinks.
-  double exact = 0;
-  for (const Triangle& t : rectangle({-1, -1, 0}, {2, 0, 0}, {0, 2, 0})) exact += triangle_solid_angle({0, 0, 2}, t);
-  for (const Triangle& t : rectangle({0.1, 0.0, 1}, {0, 0.4, 0}, {0.4, 0, 0})) exact -= triangle_solid_angle({0, 0, 2}, t);
-  double flux_uniform = 0, flux_adaptive = 0;
-  for (std::size_t i = 0; i < uniform.patches.size(); ++i)
-    if (uniform.patches[i].surface == 0) flux_uniform += uniform.patches[i].area_m2 * uniform.irradiance[i];
-  for (std::size_t i = 0; i < adaptive.patches.size(); ++i)
-    if (adaptive.patches[i].surface == 0) flux_adaptive += adaptive.patches[i].area_m2 * adaptive.irradiance[i];
-  EXPECT_LT(std::abs(flux_adaptive - exact), std::abs(flux_uniform - exact)) << exact;
-  EXPECT_NEAR(flux_adaptive, exact, 5e-3 * exact);
+  EXPECT_LT(shadowed_floor_flux_error(adaptive), shadowed_floor_flux_error(uniform));
+  EXPECT_LT(shadowed_floor_flux_error(adaptive), 5e-3);
+}
+
+// meshing.refine_direct: the same gain from the direct light alone, in one solve, with the split
+// confined to the shadow's edge (the floor's smooth 1/d³ fall-off is left alone: the ratio between
+// neighbours there stays far below the jump that triggers a split).
+TEST(AdaptiveMeshing, DirectRefinementSplitsOnlyAtTheShadowEdge) {
+  const Solution uniform = shadowed_floor(false, false), refined = shadowed_floor(true, false);
+  const double e_uniform = shadow_representation_error(uniform), e_refined = shadow_representation_error(refined);
+  EXPECT_EQ(refined.stats.adaptive_rounds, 0);
+  EXPECT_EQ(refined.stats.direct_refinement_patches, refined.patches.size() - uniform.patches.size());
+  EXPECT_GT(refined.patches.size(), uniform.patches.size());
+  EXPECT_LT(e_refined, 0.6 * e_uniform) << e_uniform << " -> " << e_refined;
+  EXPECT_LT(shadowed_floor_flux_error(refined), shadowed_floor_flux_error(uniform));
+  EXPECT_LT(shadowed_floor_flux_error(refined), 5e-3);
+  // Every split patch of the floor lies within a patch's size of the shadow's edge: the patch and the
+  // shadow's square (x in [0.2, 1], y in [0, 0.8]) at z = 0, grown by the uniform patch size.
+  const double h = std::sqrt(2 * 4.0 / 128);
+  std::size_t split = 0;
+  for (const Patch& p : refined.patches) {
+    if (p.surface != 0 || p.area_m2 > 0.5 * 4.0 / 128) continue;
+    ++split;
+    double lo_x = 1e9, hi_x = -1e9, lo_y = 1e9, hi_y = -1e9;
+    for (const Point3& v : p.triangle.v)
+      lo_x = std::min(lo_x, v.x), hi_x = std::max(hi_x, v.x), lo_y = std::min(lo_y, v.y), hi_y = std::max(hi_y, v.y);
+    const bool near_x_edge = (std::abs(lo_x - 0.2) < h || std::abs(hi_x - 0.2) < h || std::abs(lo_x - 1) < h ||
+                              std::abs(hi_x - 1) < h) && hi_y > -h && lo_y < 0.8 + h;
+    const bool near_y_edge = (std::abs(lo_y) < h || std::abs(hi_y) < h || std::abs(lo_y - 0.8) < h ||
+                              std::abs(hi_y - 0.8) < h) && hi_x > 0.2 - h && lo_x < 1 + h;
+    EXPECT_TRUE(near_x_edge || near_y_edge) << p.triangle.v[0].x << ", " << p.triangle.v[0].y;
+  }
+  EXPECT_GT(split, 0u);
 }
 
 }  // namespace
