@@ -135,13 +135,11 @@ namespace {
 
 constexpr int kAdaptiveRounds = 2;
 
-// Splits a patch 1:4 where a quantity q (an irradiance, radiometric total Σ_λ w_λ H(λ)) is more than
+// Marks the patches whose quantity q (an irradiance, radiometric total Σ_λ w_λ H(λ)) is more than
 // `ratio` times a neighbour's (same surface, sharing a vertex), or less than 1/ratio of it, and differs
-// from it by more than 0.1 % of the area-weighted mean of q: at shadow boundaries, near contacts and
-// under strong lights, not in smooth or dark regions. No patch is split below min_area. Returns the
-// patches unchanged (same size) when nothing is split.
-std::vector<Patch> split_where_varies(const std::vector<Patch>& patches, const std::vector<double>& q,
-                                      double min_area, double ratio) {
+// from it by more than 0.1 % of the area-weighted mean of q: shadow boundaries, contacts and hot
+// spots, not smooth or dark regions.
+std::vector<char> where_varies(const std::vector<Patch>& patches, const std::vector<double>& q, double ratio) {
   const std::size_t N = patches.size();
   double mean = 0, area = 0;
   for (std::size_t i = 0; i < N; ++i) {
@@ -154,21 +152,24 @@ std::vector<Patch> split_where_varies(const std::vector<Patch>& patches, const s
   std::map<std::tuple<int, double, double, double>, std::vector<std::size_t>> at_vertex;
   for (std::size_t i = 0; i < N; ++i)
     for (const Point3& v : patches[i].triangle.v) at_vertex[{patches[i].surface, v.x, v.y, v.z}].push_back(i);
-  std::vector<char> split(N, 0);
+  std::vector<char> marked(N, 0);
   for (const auto& [key, list] : at_vertex)
     for (std::size_t a = 0; a < list.size(); ++a)
       for (std::size_t b = a + 1; b < list.size(); ++b) {
         const std::size_t i = list[a], j = list[b];
         const double hi = std::max(q[i], q[j]), lo = std::min(q[i], q[j]);
-        if (hi > ratio * lo && hi - lo > 1e-3 * mean) {
-          split[i] = patches[i].area_m2 / 4 >= min_area;
-          split[j] = patches[j].area_m2 / 4 >= min_area;
-        }
+        if (hi > ratio * lo && hi - lo > 1e-3 * mean) marked[i] = marked[j] = 1;
       }
+  return marked;
+}
+
+// The marked patches split 1:4 (those that would fall below min_area are not). Returns the patches
+// unchanged (same size) when nothing is split.
+std::vector<Patch> split_marked(const std::vector<Patch>& patches, const std::vector<char>& marked, double min_area) {
   std::vector<Patch> out;
-  out.reserve(N);
-  for (std::size_t i = 0; i < N; ++i) {
-    if (!split[i]) {
+  out.reserve(patches.size());
+  for (std::size_t i = 0; i < patches.size(); ++i) {
+    if (!marked[i] || patches[i].area_m2 / 4 < min_area) {
       out.push_back(patches[i]);
       continue;
     }
@@ -180,6 +181,55 @@ std::vector<Patch> split_where_varies(const std::vector<Patch>& patches, const s
     }
   }
   return out;
+}
+
+// Marks the patches that a probe point sees from closer than 0.71 times the patch's longest edge
+// (the distance to the centroid): the point's irradiance then depends on how the radiosity varies
+// across the patch, which a constant patch does not resolve (a probe beside a box's shaded side).
+// The probe points are hashed into cubes as large as the largest such distance.
+void mark_near_probes(const std::vector<Patch>& patches, const std::vector<Probe>& probes, std::vector<char>& marked) {
+  std::vector<std::pair<Point3, Vector3>> points;
+  for (const Probe& probe : probes)
+    for (const Point3& p : probe.points) points.push_back({p, probe.normal});
+  if (points.empty() || patches.empty()) return;
+  std::vector<double> reach2(patches.size());  // squared distance within which a point counts as near
+  double cell = 0;
+  for (std::size_t i = 0; i < patches.size(); ++i) {
+    const Triangle& t = patches[i].triangle;
+    double edge2 = 0;
+    for (int k = 0; k < 3; ++k) edge2 = std::max(edge2, length_squared(t.v[(k + 1) % 3] - t.v[k]));
+    reach2[i] = 0.5 * edge2;
+    cell = std::max(cell, std::sqrt(reach2[i]));
+  }
+  if (!(cell > 0)) return;
+  using Key = std::tuple<long long, long long, long long>;
+  auto key = [&](const Point3& p) {
+    return Key{static_cast<long long>(std::floor(p.x / cell)), static_cast<long long>(std::floor(p.y / cell)),
+               static_cast<long long>(std::floor(p.z / cell))};
+  };
+  std::map<Key, std::vector<std::size_t>> cells;
+  for (std::size_t k = 0; k < points.size(); ++k) cells[key(points[k].first)].push_back(k);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, patches.size(), 64), [&](const auto& range) {
+    for (std::size_t i = range.begin(); i != range.end(); ++i) {
+      const Patch& a = patches[i];
+      const Point3 c = a.triangle.centroid();
+      const auto [cx, cy, cz] = key(c);
+      for (long long dx = -1; dx <= 1 && !marked[i]; ++dx)
+        for (long long dy = -1; dy <= 1 && !marked[i]; ++dy)
+          for (long long dz = -1; dz <= 1 && !marked[i]; ++dz) {
+            const auto it = cells.find({cx + dx, cy + dy, cz + dz});
+            if (it == cells.end()) continue;
+            for (std::size_t k : it->second) {
+              const auto& [p, n] = points[k];
+              if (length_squared(p - c) < reach2[i] && dot(p - c, a.normal) > 0 &&
+                  std::any_of(a.triangle.v.begin(), a.triangle.v.end(), [&](const Point3& v) { return dot(v - p, n) > 0; })) {
+                marked[i] = 1;
+                break;
+              }
+            }
+          }
+    }
+  });
 }
 
 // The surfaces cut into patches of at most max_area (mesh_ops.h, subdivide_to_max_area_with_parents).
@@ -263,7 +313,7 @@ std::vector<double> direct_irradiance_totals(const Scene& scene, const std::vect
 }
 
 // Direct-light meshing (meshing.refine_direct): before the solve, split where the direct irradiance
-// jumps between neighbours by more than kDirectRatio (split_where_varies), in up to two rounds, down to
+// jumps between neighbours by more than kDirectRatio (where_varies), in up to two rounds, down to
 // 1/16 of max_area. This puts small patches in penumbrae and along shadow edges before any factor is
 // formed (meshing.adaptive solves the whole scene again for each round). The ratio is a jump, not a
 // gradient: smooth fall-off (a wall below a ceiling light) stays coarse, where refining cost time for
@@ -281,8 +331,9 @@ std::vector<Patch> refine_where_direct_light_varies(const Scene& scene, std::vec
     for (std::size_t t = 0; t < surface.mesh.triangles.size(); ++t) input_triangles.push_back(surface.mesh.triangle(t));
   const Visibility vis(input_triangles);
   for (int round = 0; round < 2; ++round) {
-    std::vector<Patch> refined =
-        split_where_varies(patches, direct_irradiance_totals(scene, patches, vis, control), max_area / 16, kDirectRatio);
+    std::vector<char> marked = where_varies(patches, direct_irradiance_totals(scene, patches, vis, control), kDirectRatio);
+    if (round == 0) mark_near_probes(patches, scene.probes, marked);
+    std::vector<Patch> refined = split_marked(patches, marked, max_area / 16);
     if (refined.size() == patches.size() || refined.size() > limit) break;
     patches = std::move(refined);
   }
@@ -296,7 +347,7 @@ std::vector<Patch> refine_where_irradiance_varies(const Solution& sol) {
   std::vector<double> q(N, 0.0);
   for (std::size_t i = 0; i < N; ++i)
     for (std::size_t w = 0; w < W; ++w) q[i] += sol.grid.weight_nm[w] * sol.irradiance[i * W + w];
-  return split_where_varies(sol.patches, q, sol.stats.max_patch_area_m2 / 16, 1.1 / 0.9);
+  return split_marked(sol.patches, where_varies(sol.patches, q, 1.1 / 0.9), sol.stats.max_patch_area_m2 / 16);
 }
 
 }  // namespace
@@ -733,31 +784,25 @@ Solution solve_dense(const Scene& scene, const SolveControl& control, const std:
           return;
         }
         const Patch& a = sol.patches[i];
-        // The row's unoccluded factors first, then the visibility of all its links as ray streams.
-        thread_local std::vector<std::size_t> partners, traced;
+        // The row's visibility first, as ray streams for the links that an occluder plane could cut,
+        // then the unoccluded factor of every link not wholly hidden (the kernel costs as much as the
+        // rays, and in a furnished room many links are hidden).
+        thread_local std::vector<std::size_t> partners, traced, traced_partners;
         thread_local std::vector<double> unoccluded, fraction, traced_fraction;
-        partners.clear(), unoccluded.clear(), traced.clear();
+        partners.clear(), traced.clear(), traced_partners.clear();
         for (std::size_t j = i + 1; j < N && closed[i] != 3; ++j) {
           const Patch& b = sol.patches[j];
           if (closed[j] == 3) continue;
           if (!any_in_front(a.triangle, a.normal, b.triangle) || !any_in_front(b.triangle, b.normal, a.triangle))
             continue;
-          // Integrate over the smaller patch: its point-to-polygon factor varies least across it.
-          const double f = a.area_m2 <= b.area_m2 ? area_form_factor(a.triangle, b.triangle)
-                                                  : area_form_factor(b.triangle, a.triangle);
-          if (f <= 0) continue;
-          const bool clear = !sides.empty() && occluder_planes.clear(sides[i], sides[j]);
-          if (!clear) traced.push_back(partners.size());
+          if (sides.empty() || !occluder_planes.clear(sides[i], sides[j])) {
+            traced.push_back(partners.size());
+            traced_partners.push_back(j);
+          }
           partners.push_back(j);
-          unoccluded.push_back(f);
         }
-        // Wholly visible where no occluder plane can come between; rays for the rest.
-        links_clear += partners.size() - traced.size();
         fraction.assign(partners.size(), 1.0);
         if (!traced.empty()) {
-          thread_local std::vector<std::size_t> traced_partners;
-          traced_partners.clear();
-          for (std::size_t l : traced) traced_partners.push_back(partners[l]);
           traced_fraction.resize(traced.size());
           const auto t_rays = Clock::now();
           link_rays += patch_visible_fractions(a, traced_partners, sol.patches, vis, traced_fraction);
@@ -766,6 +811,20 @@ Solution solve_dense(const Scene& scene, const SolveControl& control, const std:
           row_traced[i].store(1, std::memory_order_relaxed);
           for (std::size_t j : traced_partners) row_traced[j].store(1, std::memory_order_relaxed);
           for (std::size_t r = 0; r < traced.size(); ++r) fraction[traced[r]] = traced_fraction[r];
+        }
+        unoccluded.assign(partners.size(), 0.0);
+        for (std::size_t l = 0; l < partners.size(); ++l) {
+          if (fraction[l] <= 0) continue;
+          const Patch& b = sol.patches[partners[l]];
+          // Integrate over the smaller patch: its point-to-polygon factor varies least across it.
+          unoccluded[l] = a.area_m2 <= b.area_m2 ? area_form_factor(a.triangle, b.triangle)
+                                                 : area_form_factor(b.triangle, a.triangle);
+        }
+        // Links wholly visible without rays: no occluder plane can come between.
+        for (std::size_t l = 0, r = 0; l < partners.size(); ++l) {
+          const bool was_traced = r < traced.size() && traced[r] == l;
+          r += was_traced;
+          links_clear += !was_traced && unoccluded[l] > 0;
         }
         std::size_t row_links = 0;
         for (std::size_t l = 0; l < partners.size(); ++l) {

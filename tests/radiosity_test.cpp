@@ -362,5 +362,38 @@ TEST(AdaptiveMeshing, DirectRefinementSplitsOnlyAtTheShadowEdge) {
   EXPECT_GT(split, 0u);
 }
 
+// meshing.refine_direct also splits the patches that a probe point sees from closer than their size:
+// a probe 3 cm in front of a wall whose radiosity varies (a point light 0.4 m in front of it) reads
+// the wall's nearest patch almost alone, and a constant patch misplaces its radiosity. Only patches
+// near the probe are split, and the probe comes closer to a uniformly fine mesh's answer.
+TEST(AdaptiveMeshing, PatchesNextToAProbeAreSplit) {
+  const Point3 probe{0.03, 0.3, 0.35};
+  auto build = [&](bool refine_direct, double area) {
+    SceneBuilder b;
+    const int grey = b.material("grey", 0.5);
+    b.surface("wall", grey, rectangle({0, 0, 0}, {0, 1, 0}, {0, 0, 1}));
+    b.point_light({0.4, 0.5, 0.5}, 1.0);
+    b.probe("near", probe, {-1, 0, 0});
+    b.max_patch_area(area);
+    b.scene().meshing.refine_direct = refine_direct;
+    return solve(b.scene());
+  };
+  const double area = 1.0 / 32;
+  const Solution uniform = build(false, area), refined = build(true, area), fine = build(false, area / 64);
+  // No jump of the direct light here: every split is the probe's.
+  ASSERT_GT(refined.patches.size(), uniform.patches.size());
+  EXPECT_LT(refined.patches.size(), uniform.patches.size() + 3 * 8);
+  for (const Patch& p : refined.patches) {
+    if (p.area_m2 > 0.5 * area) continue;  // split
+    // The parent's centroid lay within 0.71 of its longest edge (0.25 √2) of the probe: the child's
+    // centroid lies within that plus the parent's size.
+    EXPECT_LT(distance(p.triangle.centroid(), probe), 0.71 * 0.25 * std::sqrt(2.0) + 0.25 * std::sqrt(2.0));
+  }
+  const double e_fine = fine.probes[0].irradiance[0];
+  const double err_uniform = std::abs(uniform.probes[0].irradiance[0] / e_fine - 1);
+  const double err_refined = std::abs(refined.probes[0].irradiance[0] / e_fine - 1);
+  EXPECT_LT(err_refined, 0.5 * err_uniform) << err_uniform << " -> " << err_refined;
+}
+
 }  // namespace
 }  // namespace lambert

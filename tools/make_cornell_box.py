@@ -82,8 +82,9 @@ def main(data_dir, out_path):
         "surfaces": surfaces,
         "probes": [{"name": "floor-grid", "normal": [0, 1, 0],
                     "grid": {"origin": [50, 1, 50], "u": [450, 0, 0], "v": [0, 0, 450], "nu": 9, "nv": 9}}],
-        # 3 200 mm² patches, split further in the blocks' penumbrae (meshing.refine_direct, on by
-        # default): every surface within 1 % of the converged answer in under 1 s (docs/BENCHMARKS.md).
+        # 3 200 mm² patches, split further in the blocks' penumbrae and next to the probe points
+        # (meshing.refine_direct, on by default): every surface and the probe grid within 1 % of the
+        # converged answer in under 1 s (docs/BENCHMARKS.md).
         "meshing": {"max_patch_area": 3200},
     }
     Path(out_path).write_text(json.dumps(scene, indent=1) + "\n")
