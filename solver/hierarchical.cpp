@@ -25,6 +25,7 @@
 #include "solver/form_factor.h"
 #include "solver/light_model.h"
 #include "solver/linear_solve.h"
+#include "solver/patch_refinement.h"
 #include "solver/visibility.h"
 #include "solver/visible_fraction.h"
 
@@ -704,44 +705,84 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
   }
   const double root_area = max_area * std::pow(4.0, kRootLevels);
   std::vector<char> occluder_two_sided;  // per root, from its input triangle (Surface::two_sided)
-  for (std::size_t s = 0; s < scene.surfaces.size(); ++s) {
-    const Surface& surface = scene.surfaces[s];
-    const SubdividedMesh subdivided = subdivide_to_max_area_with_parents(surface.mesh, root_area);
-    const TriangleMesh& pieces = subdivided.mesh;
-    for (std::size_t t = 0; t < pieces.triangles.size(); ++t) {
-      const Triangle tri = pieces.triangle(t);
-      if (!(tri.area() > 0)) continue;
-      const int root = static_cast<int>(h.elements.size());
-      h.elements.push_back(make_element(tri, static_cast<int>(s), -1, root));
-      h.roots.push_back(root);
-      occluders.push_back(tri);
-      const std::size_t parent = static_cast<std::size_t>(subdivided.parent[t]);
-      occluder_two_sided.push_back(parent < surface.two_sided.size() ? surface.two_sided[parent] : 0);
-      // Breadth-first 1:4 splits until the leaves are no larger than max_area; a parent precedes its
-      // children, and the whole tree is one contiguous block.
-      for (int e = root; e < static_cast<int>(h.elements.size()); ++e) {
-        if (h.elements[e].area <= max_area) continue;
-        const auto children = split4(h.elements[e].tri);
-        h.elements[e].first_child = static_cast<int>(h.elements.size());
-        for (const Triangle& c : children) h.elements.push_back(make_element(c, static_cast<int>(s), e, root));
+  // Element trees: breadth-first 1:4 splits until the leaves are no larger than max_area, and further
+  // (down to max_area/16) where meshing.refine_direct marked a leaf (`split_further`, by its exact
+  // vertices; a rebuild makes the same triangles); a parent precedes its children, and every tree
+  // is one contiguous block.
+  std::set<std::array<double, 9>> split_further;
+  auto vertex_key = [](const Triangle& t) {
+    return std::array<double, 9>{t.v[0].x, t.v[0].y, t.v[0].z, t.v[1].x, t.v[1].y, t.v[1].z, t.v[2].x, t.v[2].y, t.v[2].z};
+  };
+  auto build_trees = [&] {
+    h = Hierarchy{};
+    occluders.clear(), occluder_two_sided.clear();
+    for (std::size_t s = 0; s < scene.surfaces.size(); ++s) {
+      const Surface& surface = scene.surfaces[s];
+      const SubdividedMesh subdivided = subdivide_to_max_area_with_parents(surface.mesh, root_area);
+      const TriangleMesh& pieces = subdivided.mesh;
+      for (std::size_t t = 0; t < pieces.triangles.size(); ++t) {
+        const Triangle tri = pieces.triangle(t);
+        if (!(tri.area() > 0)) continue;
+        const int root = static_cast<int>(h.elements.size());
+        h.elements.push_back(make_element(tri, static_cast<int>(s), -1, root));
+        h.roots.push_back(root);
+        occluders.push_back(tri);
+        const std::size_t parent = static_cast<std::size_t>(subdivided.parent[t]);
+        occluder_two_sided.push_back(parent < surface.two_sided.size() ? surface.two_sided[parent] : 0);
+        for (int e = root; e < static_cast<int>(h.elements.size()); ++e) {
+          const Element& el = h.elements[e];
+          if (el.area <= max_area &&
+              !(el.area / 4 >= max_area / 16 && split_further.count(vertex_key(el.tri)) > 0))
+            continue;
+          const auto children = split4(el.tri);
+          h.elements[e].first_child = static_cast<int>(h.elements.size());
+          for (const Triangle& c : children) h.elements.push_back(make_element(c, static_cast<int>(s), e, root));
+        }
+        h.root_block.emplace_back(root, static_cast<int>(h.elements.size()));
       }
-      h.root_block.emplace_back(root, static_cast<int>(h.elements.size()));
     }
+    h.leaves.clear();
+    for (std::size_t e = 0; e < h.elements.size(); ++e)
+      if (h.elements[e].first_child < 0) {
+        h.elements[e].leaf = static_cast<int>(h.leaves.size());
+        h.leaves.push_back(static_cast<int>(e));
+      }
+  };
+  auto leaf_patches = [&] {
+    std::vector<Patch> patches(h.leaves.size());
+    for (std::size_t i = 0; i < h.leaves.size(); ++i) {
+      const Element& e = h.elements[h.leaves[i]];
+      patches[i] = Patch{e.surface, e.tri, e.area, e.normal};
+    }
+    return patches;
+  };
+  build_trees();
+  // meshing.refine_direct, as in the dense solver (patch_refinement.h): leaves where the direct light
+  // jumps between neighbours, or next to a probe point, are split, in up to two rounds; a round that
+  // would pass the patch limit is not taken.
+  if (scene.meshing.refine_direct.value_or(false) && (!scene.lights.empty() || std::any_of(scene.surfaces.begin(), scene.surfaces.end(),
+                                                                           [](const Surface& x) { return x.emission.has_value(); }))) {
+    const std::size_t base = h.leaves.size();
+    const Visibility roots_vis(occluders);
+    for (int round = 0; round < 2; ++round) {
+      const std::vector<Patch> patches = leaf_patches();
+      std::vector<char> marked = where_varies(patches, direct_irradiance_totals(scene, patches, roots_vis, control), kDirectRatio);
+      if (round == 0) mark_near_probes(patches, scene.probes, marked);
+      std::size_t added = 0;
+      for (std::size_t i = 0; i < patches.size(); ++i)
+        added += marked[i] && patches[i].area_m2 / 4 >= max_area / 16 ? 3 : 0;
+      if (added == 0 || patches.size() + added > patch_limit(kMaxHierarchicalPatches, control)) break;
+      for (std::size_t i = 0; i < patches.size(); ++i)
+        if (marked[i]) split_further.insert(vertex_key(patches[i].triangle));
+      build_trees();
+    }
+    sol.stats.direct_refinement_patches = h.leaves.size() - base;
   }
-  for (std::size_t e = 0; e < h.elements.size(); ++e)
-    if (h.elements[e].first_child < 0) {
-      h.elements[e].leaf = static_cast<int>(h.leaves.size());
-      h.leaves.push_back(static_cast<int>(e));
-    }
   const std::size_t N = h.leaves.size();
   check_patch_count(static_cast<double>(N), false, kMaxHierarchicalPatches, control);
   h.root_order = h.roots;
   if (!h.roots.empty()) build_clusters(h, 0, static_cast<int>(h.roots.size()));
-  sol.patches.resize(N);
-  for (std::size_t i = 0; i < N; ++i) {
-    const Element& e = h.elements[h.leaves[i]];
-    sol.patches[i] = Patch{e.surface, e.tri, e.area, e.normal};
-  }
+  sol.patches = leaf_patches();
   sol.stats.patches = N;
   sol.stats.time_meshing_s = seconds_since(t0);
   check_cancel(control);

@@ -99,10 +99,13 @@ class SolveError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// min(solver_limit, control.max_patches), or solver_limit where the service sets no limit.
+std::size_t patch_limit(std::size_t solver_limit, const SolveControl& control);
+
 // Throws SolveError, naming meshing.max_patch_area, when a meshing gives (or, with `estimate`, would
-// give at least) more patches than min(solver_limit, control.max_patches): called before the
-// subdivision is allocated, so that a patch size in the wrong unit fails at once instead of exhausting
-// memory, and again with the real count.
+// give at least) more patches than patch_limit(solver_limit, control): called before the subdivision
+// is allocated, so that a patch size in the wrong unit fails at once instead of exhausting memory,
+// and again with the real count.
 void check_patch_count(double patches, bool estimate, std::size_t solver_limit, const SolveControl& control);
 
 // Shared by both methods, from the hemisphere probe's verdict per patch (0 open, 1 closed, 2 some

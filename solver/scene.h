@@ -75,9 +75,10 @@ struct Probe {
 struct MeshingOptions {
   std::optional<double> max_patch_area_m2;  // absent: chosen from the scene's size
   bool adaptive = false;
-  // Dense solver: split patches where the direct irradiance varies before the solve (radiosity.cpp,
-  // refine_where_direct_light_varies).
-  bool refine_direct = true;
+  // Split patches where the direct light jumps, and next to probe points, before the solve
+  // (patch_refinement.h). Absent: on for the dense solver, off for the hierarchical one (where, in a
+  // sunlit city, it doubles the time; docs/BENCHMARKS.md).
+  std::optional<bool> refine_direct;
 };
 
 // Dense: every patch pair (N² factors, exact up to ray noise; memory 8 N² bytes).

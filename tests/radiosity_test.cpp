@@ -294,7 +294,7 @@ double shadow_representation_error(const Solution& sol) {
 
 // The shadowed floor of shadow_representation_error, meshed uniformly (refine_direct off), refined
 // from the direct light before the solve (refine_direct), or refined after solves (adaptive).
-Solution shadowed_floor(bool refine_direct, bool adaptive) {
+Solution shadowed_floor(bool refine_direct, bool adaptive, SolverMethod method = SolverMethod::Dense) {
   SceneBuilder b;
   const int black = b.material("black", 0.0);
   b.surface("floor", black, rectangle({-1, -1, 0}, {2, 0, 0}, {0, 2, 0}));
@@ -303,6 +303,7 @@ Solution shadowed_floor(bool refine_direct, bool adaptive) {
   b.max_patch_area(4.0 / 128);
   b.scene().meshing.refine_direct = refine_direct;
   b.scene().meshing.adaptive = adaptive;
+  b.scene().solver.method = method;
   return solve(b.scene());
 }
 
@@ -360,6 +361,28 @@ TEST(AdaptiveMeshing, DirectRefinementSplitsOnlyAtTheShadowEdge) {
     EXPECT_TRUE(near_x_edge || near_y_edge) << p.triangle.v[0].x << ", " << p.triangle.v[0].y;
   }
   EXPECT_GT(split, 0u);
+}
+
+// The hierarchical method splits its leaves by the same rules when asked (its default is off), and
+// gains as much.
+TEST(AdaptiveMeshing, DirectRefinementOfHierarchicalLeaves) {
+  const Solution uniform = shadowed_floor(false, false, SolverMethod::Hierarchical);
+  const Solution refined = shadowed_floor(true, false, SolverMethod::Hierarchical);
+  EXPECT_EQ(refined.stats.direct_refinement_patches, refined.patches.size() - uniform.patches.size());
+  EXPECT_GT(refined.patches.size(), uniform.patches.size());
+  const double e_uniform = shadow_representation_error(uniform), e_refined = shadow_representation_error(refined);
+  EXPECT_LT(e_refined, 0.6 * e_uniform) << e_uniform << " -> " << e_refined;
+  EXPECT_LT(shadowed_floor_flux_error(refined), 5e-3);
+  // Unset, the hierarchical method does not split; the dense one does.
+  SceneBuilder b;
+  b.surface("floor", b.material("black", 0.0), rectangle({-1, -1, 0}, {2, 0, 0}, {0, 2, 0}));
+  b.surface("blocker", 0, rectangle({0.1, 0.0, 1}, {0, 0.4, 0}, {0.4, 0, 0}));
+  b.point_light({0, 0, 2}, 1.0);
+  b.max_patch_area(4.0 / 128);
+  b.scene().solver.method = SolverMethod::Hierarchical;
+  EXPECT_EQ(solve(b.scene()).stats.direct_refinement_patches, 0u);
+  b.scene().solver.method = SolverMethod::Dense;
+  EXPECT_GT(solve(b.scene()).stats.direct_refinement_patches, 0u);
 }
 
 // meshing.refine_direct also splits the patches that a probe point sees from closer than their size:

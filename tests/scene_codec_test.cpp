@@ -120,7 +120,7 @@ TEST(SceneCodec, DefaultsAndOptions) {
       R"("lambert": 1, "description": "test", "expected": {"anything": [1, 2]},
          "spectrum": {"mode": "spectral", "wavelengths_nm": [450, 550, 650]},
          "probes": [{"position": [0, 1, 0], "normal": [0, 5, 0]}],
-         "meshing": {"max_patch_area": 0.25, "adaptive": true},
+         "meshing": {"max_patch_area": 0.25, "adaptive": true, "refine_direct": false},
          "solver": {"tolerance": 1e-3, "max_iterations": 1e3},
          "output": {"spectral": false})"));
   ASSERT_TRUE(s);
@@ -133,6 +133,8 @@ TEST(SceneCodec, DefaultsAndOptions) {
   EXPECT_DOUBLE_EQ(s->probes[0].normal.y, 1.0);  // normalised
   EXPECT_DOUBLE_EQ(*s->meshing.max_patch_area_m2, 0.25);
   EXPECT_TRUE(s->meshing.adaptive);
+  ASSERT_TRUE(s->meshing.refine_direct.has_value());
+  EXPECT_FALSE(*s->meshing.refine_direct);
   EXPECT_DOUBLE_EQ(s->solver.tolerance, 1e-3);
   EXPECT_EQ(s->solver.max_iterations, 1000);  // 1e3 is a whole number
   EXPECT_FALSE(s->output.spectral);
@@ -328,6 +330,8 @@ TEST(SceneCodecErrors, DuplicateKey) {
 TEST(SceneCodecErrors, WrongType) {
   EXPECT_TRUE(HasError(scene_with(R"("name": 5)"), "/name", "expected a string, got a number"));
   EXPECT_TRUE(HasError(scene_with(R"("meshing": {"adaptive": "yes"})"), "/meshing/adaptive",
+                       "expected a boolean"));
+  EXPECT_TRUE(HasError(scene_with(R"("meshing": {"refine_direct": 1})"), "/meshing/refine_direct",
                        "expected a boolean"));
 }
 
