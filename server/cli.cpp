@@ -13,6 +13,7 @@
 #include "server/bench_command.h"
 #include "server/cli_common.h"
 #include "server/compare_command.h"
+#include "server/render_command.h"
 #include "server/serve_command.h"
 #include "solver/radiosity.h"
 #include "solver/report.h"
@@ -30,7 +31,9 @@ constexpr const char* kUsage =
     "  lambert bench --scaling MAX_PATCHES [-o SCALING.json]\n"
     "                                              time and memory from 10^3 patches up to MAX_PATCHES\n"
     "  lambert compare-rgb SCENE.json [-o REPORT.json]  spectral against rgb mode: per-patch dE00 and lux\n"
-    "  lambert render                              (not available in this version)\n";
+    "  lambert render (SCENE.json | RESULT.json) -o IMAGE.png [--camera \"eye=X,Y,Z look=X,Y,Z ...\"]\n"
+    "                 [--false-color illuminance|luminance] [--white CD_M2]\n"
+    "                                              a picture of the solution (lambert render --help)\n";
 
 int usage_error(const std::string& message) {
   std::cerr << "lambert: " << message << "\n" << kUsage;
@@ -119,7 +122,6 @@ int main(int argc, char** argv) {
   if (command == "serve") return lambert::run_serve(args);
   if (command == "bench") return lambert::run_bench(args);
   if (command == "compare-rgb") return lambert::run_compare_rgb(args);
-  if (command == "render")
-    return usage_error("'" + command + "' is not available in this version");
+  if (command == "render") return lambert::render_command(args);
   return usage_error("unknown command '" + command + "'");
 }

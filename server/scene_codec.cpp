@@ -915,17 +915,19 @@ void Decoder::decode_materials(const json& doc) {
     if (const json* r = required(m, p, "reflectance"))
       if (auto s = spectrum(*r, p + "/reflectance", SpectrumRole::Reflectance))
         material.reflectance = std::move(*s);
-    // The Phong lobe only affects rendered images and view queries (SPEC §1); validated here, not
-    // stored in the Scene yet.
+    // The Phong lobe only affects rendered images (SPEC §1; `lambert render`).
     if (const json* sp = member(m, "specular")) {
       const std::string ps = p + "/specular";
       if (object(*sp, ps, {"coefficient", "exponent", "reflectance"})) {
+        SpecularLobe lobe;
         if (const json* c = required(*sp, ps, "coefficient"))
-          number_in(*c, ps + "/coefficient", 0, true, 1, true);
+          if (auto v = number_in(*c, ps + "/coefficient", 0, true, 1, true)) lobe.coefficient = *v;
         if (const json* e = required(*sp, ps, "exponent"))
-          number_in(*e, ps + "/exponent", 0, true, INFINITY, false);
+          if (auto v = number_in(*e, ps + "/exponent", 0, true, INFINITY, false)) lobe.exponent = *v;
+        lobe.reflectance.assign(scene_.grid.size(), 1.0);
         if (const json* r = member(*sp, "reflectance"))
-          spectrum(*r, ps + "/reflectance", SpectrumRole::Reflectance);
+          if (auto v = spectrum(*r, ps + "/reflectance", SpectrumRole::Reflectance)) lobe.reflectance = std::move(*v);
+        material.specular = std::move(lobe);
       }
     }
     scene_.materials.push_back(std::move(material));

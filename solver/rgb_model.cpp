@@ -166,6 +166,7 @@ void reduce_scene_to_rgb(Scene& scene) {
           " (the EBU value curves have negative lobes; the value is used as computed, not clamped)");
     }
     m.reflectance = to_vector(O);
+    if (m.specular) m.specular->reflectance = to_vector(rgb_object_reflectance(m.specular->reflectance, fine));
   }
 
   auto reduce_source = [&](std::vector<double>& S, const std::string& pointer) {

@@ -19,9 +19,19 @@ namespace lambert {
 // leave [0, 1]), I_c for an emission or light (which may be negative).
 enum class SpectrumMode { Spectral, Rgb };
 
+// A Phong lobe (SPEC §1): reflected radiance E k_s ρ_s(λ) (n+1)/(2π ω0) cos^n α about the mirror
+// direction, from the light arriving from a direction with irradiance E. Only rendered images use it;
+// the radiosity solve is diffuse.
+struct SpecularLobe {
+  double coefficient = 0;           // k_s in [0, 1]
+  double exponent = 1;              // n > 0
+  std::vector<double> reflectance;  // ρ_s(λ) per grid wavelength (1 when not given)
+};
+
 struct Material {
   std::string name;
   std::vector<double> reflectance;  // β(λ) per grid wavelength, each in [0, 1]
+  std::optional<SpecularLobe> specular;
 };
 
 // Emission of a surface: exitance R(λ) [W m^-2 nm^-1] leaving the front side, distributed as

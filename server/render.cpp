@@ -1,0 +1,282 @@
+// Pictures of a solution (see render.h).
+#include "server/render.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <limits>
+#include <map>
+#include <tuple>
+#include <sstream>
+#include <stdexcept>
+
+#include "solver/spectrum.h"
+#include "solver/visibility.h"
+
+namespace lambert {
+namespace {
+
+constexpr Rgb kBackground{32, 32, 32};
+
+// The inverse of srgb_encode (IEC 61966-2-1), for the background's linear value.
+double srgb_to_linear(double encoded) {
+  return encoded <= 0.04045 ? encoded / 12.92 : std::pow((encoded + 0.055) / 1.055, 2.4);
+}
+
+Vector3 parse_triple(const std::string& key, const std::string& value) {
+  double v[3];
+  const char* p = value.c_str();
+  for (int k = 0; k < 3; ++k) {
+    char* end = nullptr;
+    v[k] = std::strtod(p, &end);
+    if (end == p || !std::isfinite(v[k]))
+      throw std::invalid_argument("--camera " + key + "=" + value + ": expected three numbers X,Y,Z");
+    p = end;
+    if (k < 2) {
+      if (*p != ',') throw std::invalid_argument("--camera " + key + "=" + value + ": expected three numbers X,Y,Z");
+      ++p;
+    }
+  }
+  if (*p != '\0') throw std::invalid_argument("--camera " + key + "=" + value + ": expected three numbers X,Y,Z");
+  return {v[0], v[1], v[2]};
+}
+
+}  // namespace
+
+Camera parse_camera(const std::string& text, Camera base) {
+  std::string spaced = text;
+  std::replace(spaced.begin(), spaced.end(), ';', ' ');
+  std::istringstream in(spaced);
+  std::string token;
+  while (in >> token) {
+    const auto eq = token.find('=');
+    if (eq == std::string::npos || eq == 0)
+      throw std::invalid_argument("--camera: \"" + token + "\" is not KEY=VALUE (keys: eye, look, up, fov, size)");
+    const std::string key = token.substr(0, eq), value = token.substr(eq + 1);
+    if (key == "eye") {
+      const Vector3 v = parse_triple(key, value);
+      base.eye = {v.x, v.y, v.z};
+    } else if (key == "look") {
+      const Vector3 v = parse_triple(key, value);
+      base.look = {v.x, v.y, v.z};
+    } else if (key == "up") {
+      base.up = parse_triple(key, value);
+    } else if (key == "fov") {
+      char* end = nullptr;
+      const double f = std::strtod(value.c_str(), &end);
+      if (value.empty() || *end != '\0' || !(f > 0 && f < 180))
+        throw std::invalid_argument("--camera fov=" + value + ": expected an angle in degrees between 0 and 180");
+      base.fov_deg = f;
+    } else if (key == "size") {
+      int w = 0, h = 0;
+      char tail = 0;
+      if (std::sscanf(value.c_str(), "%dx%d%c", &w, &h, &tail) != 2 || w < 1 || h < 1 || w > 8192 || h > 8192)
+        throw std::invalid_argument("--camera size=" + value + ": expected WIDTHxHEIGHT, each 1 to 8192 pixels");
+      base.width = w, base.height = h;
+    } else {
+      throw std::invalid_argument("--camera: unknown key \"" + key + "\" (keys: eye, look, up, fov, size)");
+    }
+  }
+  const Vector3 view = base.look - base.eye;
+  if (!(length(view) > 0)) throw std::invalid_argument("--camera: eye and look are the same point");
+  if (!(length(base.up) > 0) || length(cross(normalize(view), normalize(base.up))) < 1e-9)
+    throw std::invalid_argument("--camera: up is parallel to the view direction (or zero)");
+  return base;
+}
+
+Camera default_camera(const std::vector<Triangle>& triangles) {
+  Camera c;
+  if (triangles.empty()) return c;
+  Point3 lo{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
+            std::numeric_limits<double>::infinity()};
+  Point3 hi{-lo.x, -lo.y, -lo.z};
+  for (const Triangle& t : triangles)
+    for (const Point3& v : t.v) {
+      lo = {std::min(lo.x, v.x), std::min(lo.y, v.y), std::min(lo.z, v.z)};
+      hi = {std::max(hi.x, v.x), std::max(hi.y, v.y), std::max(hi.z, v.z)};
+    }
+  const Point3 centre{(lo.x + hi.x) / 2, (lo.y + hi.y) / 2, (lo.z + hi.z) / 2};
+  const double radius = std::max(distance(lo, hi) / 2, 1e-12);
+  const double distance_to_centre = radius / std::sin(c.fov_deg / 2 * kPi / 180);
+  c.look = centre;
+  c.eye = {centre.x, centre.y, centre.z - distance_to_centre};
+  return c;
+}
+
+Rgb false_colour_ramp(double t) {
+  static constexpr double stops[6][3] = {{0, 0, 64}, {0, 0, 255}, {0, 255, 255}, {0, 255, 0}, {255, 255, 0}, {255, 0, 0}};
+  t = std::clamp(std::isfinite(t) ? t : 0.0, 0.0, 1.0) * 5;
+  const int k = std::min(4, static_cast<int>(t));
+  const double f = t - k;
+  auto mix = [&](int c) { return static_cast<std::uint8_t>(std::lround(stops[k][c] + f * (stops[k + 1][c] - stops[k][c]))); };
+  return {mix(0), mix(1), mix(2)};
+}
+
+std::array<double, 2> false_colour_range(const std::vector<double>& values) {
+  double hi = 0, lo_positive = std::numeric_limits<double>::infinity();
+  for (double v : values)
+    if (v > 0) hi = std::max(hi, v), lo_positive = std::min(lo_positive, v);
+  if (!(hi > 0)) return {0, 0};
+  return {std::max(hi * 1e-3, lo_positive), hi};
+}
+
+Image render(const RenderPatches& patches, const Camera& camera, const RenderOptions& options) {
+  const std::size_t N = patches.triangles.size();
+  if (N == 0) throw std::invalid_argument("render: there are no patches to draw");
+  if (patches.srgb.size() != N || patches.illuminance_lx.size() != N || patches.luminance_cd_m2.size() != N ||
+      patches.emits.size() != N)
+    throw std::invalid_argument("render: the patches' attributes differ in number");
+  const Visibility vis(patches.triangles);
+  std::vector<Vector3> normals(N);
+  for (std::size_t i = 0; i < N; ++i) normals[i] = patches.triangles[i].normal();
+
+  // Camera frame.
+  const Vector3 forward = normalize(camera.look - camera.eye);
+  const Vector3 right = normalize(cross(forward, camera.up));
+  const Vector3 up = cross(right, forward);
+  const double tan_half = std::tan(camera.fov_deg / 2 * kPi / 180);
+  const double aspect = static_cast<double>(camera.width) / camera.height;
+  // A segment long enough to leave the scene from the eye in any direction.
+  double far = 0;
+  for (const Triangle& t : patches.triangles)
+    for (const Point3& v : t.v) far = std::max(far, distance(camera.eye, v));
+  far = 2 * far + 1e-9;
+
+  double white = options.white_cd_m2.value_or(0);
+  if (!(white > 0)) {
+    for (std::size_t i = 0; i < N; ++i)
+      if (!patches.emits[i]) white = std::max(white, patches.luminance_cd_m2[i]);
+    for (std::size_t i = 0; i < N && !(white > 0); ++i) white = std::max(white, patches.luminance_cd_m2[i]);
+    if (!(white > 0)) white = 1;
+  }
+  // Smooth shading: the vertices' area-weighted mean radiance over the patches of one surface.
+  std::vector<std::array<double, 3>> vertex_srgb;
+  if (options.smooth) {
+    std::map<std::tuple<int, double, double, double>, std::array<double, 4>> at_vertex;  // Σ A srgb, Σ A
+    auto key = [&](std::size_t i, int k) {
+      const Point3& v = patches.triangles[i].v[k];
+      return std::tuple{patches.surface.empty() ? 0 : patches.surface[i], v.x, v.y, v.z};
+    };
+    for (std::size_t i = 0; i < N; ++i) {
+      const double a = patches.triangles[i].area();
+      for (int k = 0; k < 3; ++k) {
+        auto& acc = at_vertex[key(i, k)];
+        for (int c = 0; c < 3; ++c) acc[c] += a * patches.srgb[i][c];
+        acc[3] += a;
+      }
+    }
+    vertex_srgb.resize(3 * N);
+    for (std::size_t i = 0; i < N; ++i)
+      for (int k = 0; k < 3; ++k) {
+        const auto& acc = at_vertex[key(i, k)];
+        for (int c = 0; c < 3; ++c) vertex_srgb[3 * i + k][c] = acc[3] > 0 ? acc[c] / acc[3] : patches.srgb[i][c];
+      }
+  }
+  // The radiance patch i shows at `point`: its own, or interpolated from its vertices.
+  auto diffuse = [&](std::size_t i, const Point3& point) {
+    if (vertex_srgb.empty()) return patches.srgb[i];
+    const Triangle& t = patches.triangles[i];
+    const Vector3 n = t.area_vector();
+    const double whole = dot(n, n);
+    double w[3];
+    for (int k = 0; k < 3; ++k)
+      w[k] = whole > 0 ? std::clamp(dot(cross(t.v[(k + 2) % 3] - t.v[(k + 1) % 3], point - t.v[(k + 1) % 3]), n) / whole, 0.0, 1.0) : 1.0 / 3;
+    const double total = w[0] + w[1] + w[2];
+    std::array<double, 3> out{0, 0, 0};
+    for (int k = 0; k < 3; ++k)
+      for (int c = 0; c < 3; ++c) out[c] += w[k] / total * vertex_srgb[3 * i + k][c];
+    return out;
+  };
+  const std::vector<double>& shown = options.false_colour == FalseColour::Luminance ? patches.luminance_cd_m2
+                                                                                   : patches.illuminance_lx;
+  const auto [lo, hi] = false_colour_range(shown);
+  auto scale_position = [lo = lo, hi = hi](double v) {
+    if (!(v > 0) || !(hi > 0)) return 0.0;
+    return hi > lo ? std::log(v / lo) / std::log(hi / lo) : 1.0;
+  };
+
+  // The first front face along the ray, passing through back faces: the patch and the point, or -1.
+  auto trace = [&](const Vector3& dir, Point3& point) {
+    Point3 from = camera.eye;
+    const Point3 to = camera.eye + dir * far;
+    for (int layer = 0; layer < 64; ++layer) {
+      const int hit = vis.first_hit(from, to);
+      if (hit < 0) return -1;
+      const Vector3& n = normals[hit];
+      const double along = dot(dir, n);
+      const double t = along != 0 ? dot(patches.triangles[hit].v[0] - from, n) / along : 0.0;
+      point = from + dir * std::max(t, 0.0);
+      if (along < 0) return hit;
+      from = point + dir * (1e-9 * far);
+    }
+    return -1;
+  };
+
+  Image image(camera.width, camera.height, kBackground);
+  constexpr double kSub[2] = {0.25, 0.75};  // 2 × 2 samples per pixel
+  tbb::parallel_for(tbb::blocked_range<int>(0, camera.height, 4), [&](const auto& rows) {
+    for (int y = rows.begin(); y != rows.end(); ++y)
+      for (int x = 0; x < camera.width; ++x) {
+        double sum[3] = {0, 0, 0};
+        for (double sy : kSub)
+          for (double sx : kSub) {
+            const double u = (2 * (x + sx) / camera.width - 1) * tan_half * aspect;
+            const double v = (1 - 2 * (y + sy) / camera.height) * tan_half;
+            const Vector3 dir = normalize(forward + right * u + up * v);
+            Point3 point;
+            const int hit = trace(dir, point);
+            if (hit < 0) {
+              const double bg[3] = {kBackground.r / 255.0, kBackground.g / 255.0, kBackground.b / 255.0};
+              for (int c = 0; c < 3; ++c) sum[c] += options.false_colour == FalseColour::None ? srgb_to_linear(bg[c]) : bg[c];
+              continue;
+            }
+            if (options.false_colour != FalseColour::None) {
+              const Rgb f = false_colour_ramp(scale_position(shown[hit]));
+              sum[0] += f.r / 255.0, sum[1] += f.g / 255.0, sum[2] += f.b / 255.0;
+              continue;
+            }
+            std::array<double, 3> L = diffuse(static_cast<std::size_t>(hit), point);
+            if (options.view_dependent) {
+              const std::array<double, 3> extra = options.view_dependent(static_cast<std::size_t>(hit), point, dir * -1.0);
+              for (int c = 0; c < 3; ++c) L[c] += extra[c];
+            }
+            for (int c = 0; c < 3; ++c) sum[c] += L[c] / white;
+          }
+        Rgb out;
+        std::uint8_t* channel[3] = {&out.r, &out.g, &out.b};
+        for (int c = 0; c < 3; ++c) {
+          const double mean = sum[c] / 4;
+          const double encoded = options.false_colour == FalseColour::None ? srgb_encode(mean) : std::clamp(mean, 0.0, 1.0);
+          *channel[c] = static_cast<std::uint8_t>(std::lround(255 * encoded));
+        }
+        image.set(x, y, out);
+      }
+  });
+
+  // The false-colour scale bar: the ramp bottom (low) to top (high), five labels on a log scale.
+  if (options.false_colour != FalseColour::None && hi > 0 && camera.width >= 200 && camera.height >= 120) {
+    const char* unit = options.false_colour == FalseColour::Luminance ? " cd/m2" : " lx";
+    const int x0 = camera.width - 110, x1 = x0 + 14, top = 14, bottom = camera.height - 14;
+    image.fill_rect(x0 - 6, top - 8, camera.width - 1, bottom + 8, {0, 0, 0});
+    for (int y = top; y <= bottom; ++y)
+      image.line(x0, y, x1, y, false_colour_ramp(static_cast<double>(bottom - y) / (bottom - top)));
+    for (int k = 0; k <= 4; ++k) {
+      const double value = hi > lo ? lo * std::pow(hi / lo, k / 4.0) : hi;
+      char label[48];
+      if (value >= 100 && value < 1e7)
+        std::snprintf(label, sizeof label, "%.0f%s", value, unit);
+      else
+        std::snprintf(label, sizeof label, "%.3g%s", value, unit);
+      const int y = bottom - (bottom - top) * k / 4;
+      image.line(x1 + 1, y, x1 + 4, y, {255, 255, 255});
+      image.text(x1 + 7, y - kGlyphHeight / 2, label, {255, 255, 255});
+    }
+  }
+  return image;
+}
+
+}  // namespace lambert

@@ -1,0 +1,309 @@
+// `lambert render` (see render_command.h).
+#include "server/render_command.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+#include <map>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <stdexcept>
+
+#include "server/cli_common.h"
+#include "server/render.h"
+#include "server/scene_codec.h"
+#include "solver/form_factor.h"
+#include "solver/light_model.h"
+#include "solver/report.h"
+#include "solver/rgb_model.h"
+#include "solver/spectrum.h"
+#include "solver/visibility.h"
+
+namespace lambert {
+namespace {
+
+using json = nlohmann::json;
+
+constexpr const char* kRenderUsage =
+    "usage: lambert render (SCENE.json | RESULT.json) -o IMAGE.png [--camera \"eye=X,Y,Z look=X,Y,Z up=X,Y,Z\n"
+    "                      fov=DEG size=WxH\"] [--false-color illuminance|luminance] [--white CD_M2] [--smooth]\n"
+    "  A scene is solved first (its specular lobes are drawn too); a result is drawn as it is.\n"
+    "  Camera positions are in scene units; default: the scene seen from -z, +y up, 40 degrees, 640x480.\n"
+    "  --white: the luminance shown as white (default: the brightest patch that does not emit).\n"
+    "  --smooth: interpolate the patches' radiance between their vertices instead of drawing facets.\n";
+
+int render_usage_error(const std::string& message) {
+  std::cerr << "lambert render: " << message << "\n" << kRenderUsage;
+  return 2;
+}
+
+// The linear sRGB value of a spectral radiance (or of three rgb-mode channels).
+std::array<double, 3> linear_srgb(const std::vector<double>& L, const Scene& scene) {
+  const Xyz c = scene.mode == SpectrumMode::Rgb ? xyz_from_rgb_channels({L[0], L[1], L[2]}) : tristimulus(L, scene.grid);
+  return xyz_to_linear_srgb(c);
+}
+
+// A result file's patches (vertices in scene units), with the white point its srgb_encoded implies.
+struct ResultPatches {
+  RenderPatches patches;
+  std::optional<double> white_cd_m2;
+  std::map<std::string, int> surface_index;
+};
+
+double srgb_to_linear(double encoded) {
+  return encoded <= 0.04045 ? encoded / 12.92 : std::pow((encoded + 0.055) / 1.055, 2.4);
+}
+
+ResultPatches result_patches(const json& doc) {
+  ResultPatches out;
+  const json& list = doc.at("patches");
+  if (!list.is_array() || list.empty()) throw std::invalid_argument("/patches: expected a non-empty array");
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    const json& p = list[i];
+    const std::string where = "/patches/" + std::to_string(i);
+    auto number = [&](const json& v, const std::string& field) {
+      if (!v.is_number()) throw std::invalid_argument(where + "/" + field + ": expected a number");
+      return v.get<double>();
+    };
+    if (!p.is_object() || !p.contains("vertices") || !p.contains("srgb") || !p.contains("luminance_cd_m2") ||
+        !p.contains("illuminance_lx"))
+      throw std::invalid_argument(where + ": expected vertices, srgb, luminance_cd_m2 and illuminance_lx");
+    const json& v = p["vertices"];
+    if (!v.is_array() || v.size() != 3) throw std::invalid_argument(where + "/vertices: expected three points");
+    Triangle t;
+    for (int k = 0; k < 3; ++k) {
+      if (!v[k].is_array() || v[k].size() != 3) throw std::invalid_argument(where + "/vertices: expected three points");
+      t.v[k] = {number(v[k][0], "vertices"), number(v[k][1], "vertices"), number(v[k][2], "vertices")};
+    }
+    const json& c = p["srgb"];
+    if (!c.is_array() || c.size() != 3) throw std::invalid_argument(where + "/srgb: expected three numbers");
+    const std::array<double, 3> srgb{number(c[0], "srgb"), number(c[1], "srgb"), number(c[2], "srgb")};
+    out.patches.triangles.push_back(t);
+    out.patches.srgb.push_back(srgb);
+    out.patches.luminance_cd_m2.push_back(number(p["luminance_cd_m2"], "luminance_cd_m2"));
+    out.patches.illuminance_lx.push_back(number(p["illuminance_lx"], "illuminance_lx"));
+    out.patches.emits.push_back(0);
+    const std::string surface = p.contains("surface") && p["surface"].is_string() ? p["surface"].get<std::string>() : "";
+    out.patches.surface.push_back(out.surface_index.try_emplace(surface, static_cast<int>(out.surface_index.size())).first->second);
+    // srgb_encoded = encode(srgb × scale) with scale = 1 / white: any channel strictly inside (0, 1)
+    // gives the scale back.
+    if (!out.white_cd_m2 && p.contains("srgb_encoded") && p["srgb_encoded"].is_array() && p["srgb_encoded"].size() == 3)
+      for (int k = 0; k < 3; ++k) {
+        const json& e = p["srgb_encoded"][k];
+        if (!e.is_number() || !(srgb[k] > 0)) continue;
+        const double encoded = e.get<double>();
+        if (encoded > 0.05 && encoded < 0.95) {
+          out.white_cd_m2 = srgb[k] / srgb_to_linear(encoded);
+          break;
+        }
+      }
+  }
+  return out;
+}
+
+}  // namespace
+
+std::function<std::array<double, 3>(std::size_t, const Point3&, const Vector3&)> specular_shading(
+    const Scene& scene, const Solution& sol) {
+  struct Shading {
+    const Scene& scene;
+    const Solution& sol;
+    std::vector<Triangle> triangles;
+    std::unique_ptr<Visibility> vis;
+    std::vector<std::unique_ptr<LightModel>> lights;  // parallel to scene.lights
+    std::vector<std::size_t> emitters;                // Lambertian emitting patches
+  };
+  auto s = std::make_shared<Shading>(Shading{scene, sol, {}, nullptr, {}, {}});
+  bool any_lobe = false;
+  for (const Material& m : scene.materials) any_lobe |= m.specular && m.specular->coefficient > 0;
+  if (!any_lobe) return {};
+  for (const Patch& p : sol.patches) s->triangles.push_back(p.triangle);
+  s->vis = std::make_unique<Visibility>(s->triangles);
+  for (const Light& l : scene.lights) s->lights.push_back(make_light_model(l));
+  for (std::size_t j = 0; j < sol.patches.size(); ++j) {
+    const auto& e = scene.surfaces[sol.patches[j].surface].emission;
+    if (e && e->lobe_exponent == 1.0) s->emitters.push_back(j);
+  }
+  return [s](std::size_t i, const Point3& point, const Vector3& to_eye) -> std::array<double, 3> {
+    const Scene& scene = s->scene;
+    const Patch& patch = s->sol.patches[i];
+    const auto& lobe = scene.materials[scene.surfaces[patch.surface].material].specular;
+    if (!lobe || !(lobe->coefficient > 0)) return {0, 0, 0};
+    const Vector3 n = patch.normal;
+    const Point3 p = s->vis->lift(point, n);
+    const std::size_t W = scene.grid.size();
+    std::vector<double> L(W, 0.0);
+    const double norm = lobe->coefficient * (lobe->exponent + 1) / (2 * kPi);
+    // One source seen along unit direction w with irradiance g × S(λ) at p.
+    auto add = [&](const Vector3& w, double g, const std::vector<double>& S) {
+      const double cos_in = dot(n, w);
+      if (!(g > 0) || !(cos_in > 0)) return;
+      const Vector3 mirror = n * (2 * cos_in) - w;
+      const double cos_alpha = dot(mirror, to_eye);
+      if (!(cos_alpha > 0)) return;
+      const double weight = norm * std::pow(cos_alpha, lobe->exponent) * g;
+      for (std::size_t k = 0; k < W; ++k) L[k] += weight * lobe->reflectance[k] * S[k];
+    };
+    for (std::size_t l = 0; l < scene.lights.size(); ++l) {
+      if (const auto* d = std::get_if<DirectionalLight>(&scene.lights[l]))
+        add(d->direction * -1.0, s->lights[l]->point_factor(p, n, *s->vis), s->lights[l]->spectrum());
+      else if (const auto* q = std::get_if<PointLight>(&scene.lights[l]))
+        add(normalize(q->position - p), s->lights[l]->point_factor(p, n, *s->vis), s->lights[l]->spectrum());
+    }
+    for (std::size_t j : s->emitters) {
+      if (j == i) continue;
+      const Patch& e = s->sol.patches[j];
+      const Point3 c = e.triangle.centroid();
+      if (!(dot(p - c, e.normal) > 0)) continue;  // behind the emitter
+      const double g = point_triangle_factor(p, n, e.triangle);
+      if (!(g > 0) || !s->vis->visible(p, s->vis->lift(c, e.normal))) continue;
+      add(normalize(c - p), g, scene.surfaces[e.surface].emission->exitance_W_m2_nm);
+    }
+    return linear_srgb(L, scene);
+  };
+}
+
+RenderPatches render_patches(const Scene& scene, const Solution& sol, const Report& report) {
+  RenderPatches patches;
+  for (std::size_t i = 0; i < sol.patches.size(); ++i) {
+    patches.triangles.push_back(sol.patches[i].triangle);
+    patches.srgb.push_back(report.patches[i].srgb);
+    patches.illuminance_lx.push_back(report.patches[i].illuminance_lx);
+    patches.luminance_cd_m2.push_back(report.patches[i].luminance_cd_m2);
+    patches.emits.push_back(scene.surfaces[sol.patches[i].surface].emission ? 1 : 0);
+    patches.surface.push_back(sol.patches[i].surface);
+  }
+  return patches;
+}
+
+RenderPatches result_render_patches(const std::string& result_json, std::optional<double>& white_cd_m2) {
+  const json doc = json::parse(result_json, nullptr, false);
+  if (doc.is_discarded() || !doc.is_object() || !doc.contains("patches"))
+    throw std::invalid_argument("not a result (a JSON object with \"patches\")");
+  ResultPatches result = result_patches(doc);
+  white_cd_m2 = result.white_cd_m2;
+  return std::move(result.patches);
+}
+
+int render_command(const std::vector<std::string>& args) {
+  std::string input, output, camera_text, false_colour = "none";
+  std::optional<double> white;
+  bool smooth = false;
+  for (std::size_t k = 0; k < args.size(); ++k) {
+    const std::string& a = args[k];
+    auto value = [&](std::string& into) {
+      if (k + 1 >= args.size()) return false;
+      into = args[++k];
+      return true;
+    };
+    if (a == "-h" || a == "--help") {
+      std::cout << kRenderUsage;
+      return 0;
+    } else if (a == "-o" || a == "--output") {
+      if (!value(output)) return render_usage_error(a + " needs a file name");
+    } else if (a == "--camera") {
+      if (!value(camera_text)) return render_usage_error("--camera needs a value");
+    } else if (a == "--false-color" || a == "--false-colour") {
+      if (!value(false_colour)) return render_usage_error(a + " needs illuminance or luminance");
+      if (false_colour != "illuminance" && false_colour != "luminance")
+        return render_usage_error(a + " " + false_colour + ": expected illuminance or luminance");
+    } else if (a == "--white") {
+      std::string text;
+      if (!value(text)) return render_usage_error("--white needs a luminance in cd/m2");
+      char* end = nullptr;
+      const double w = std::strtod(text.c_str(), &end);
+      if (text.empty() || *end != '\0' || !(w > 0) || !std::isfinite(w))
+        return render_usage_error("--white " + text + ": expected a positive luminance in cd/m2");
+      white = w;
+    } else if (a == "--smooth") {
+      smooth = true;
+    } else if (!a.empty() && a[0] == '-') {
+      return render_usage_error("unknown option " + a);
+    } else if (input.empty()) {
+      input = a;
+    } else {
+      return render_usage_error("one input file only (got " + input + " and " + a + ")");
+    }
+  }
+  if (input.empty()) return render_usage_error("no input file (a scene or a result)");
+  if (output.empty()) return render_usage_error("no output image (-o IMAGE.png)");
+
+  std::string text;
+  if (!read_text_file(input, text)) {
+    std::cerr << "lambert render: cannot read " << input << "\n";
+    return 2;
+  }
+  json doc = json::parse(text, nullptr, false);
+  if (doc.is_discarded() || !doc.is_object()) {
+    std::cerr << "lambert render: " << input << " is not a JSON object (a scene or a result)\n";
+    return 2;
+  }
+  RenderOptions options;
+  options.false_colour = false_colour == "illuminance" ? FalseColour::Illuminance
+                         : false_colour == "luminance" ? FalseColour::Luminance
+                                                       : FalseColour::None;
+  options.white_cd_m2 = white;
+  options.smooth = smooth;
+  RenderPatches patches;
+  double unit_m = 1;  // metres per camera unit (the scene's unit)
+  // Kept alive for the specular shading, which refers to them.
+  std::optional<Scene> scene;
+  std::optional<Solution> solution;
+  try {
+    if (doc.contains("patches")) {
+      ResultPatches result = result_patches(doc);
+      patches = std::move(result.patches);
+      if (!options.white_cd_m2) options.white_cd_m2 = result.white_cd_m2;
+    } else {
+      FileAccess files;
+      files.policy = FileAccess::Policy::Anywhere;
+      files.base_dir = std::filesystem::path(input).parent_path();
+      DecodeResult decoded = decode_scene(text, files);
+      if (!decoded.ok()) {
+        std::cerr << input << ": invalid scene\n" << format_errors(decoded.errors);
+        return 2;
+      }
+      scene = std::move(decoded.scene);
+      unit_m = scene->unit_m;
+      SolveControl control;
+      control.progress = terminal_progress();
+      solution = solve(*scene, control);
+      patches = render_patches(*scene, *solution, make_report(*scene, *solution));
+      options.view_dependent = specular_shading(*scene, *solution);
+    }
+  } catch (const SolveError& e) {
+    std::cerr << "lambert render: " << e.what() << "\n";
+    return 1;
+  } catch (const std::exception& e) {
+    std::cerr << "lambert render: " << input << ": " << e.what() << "\n";
+    return 2;
+  }
+  if (patches.triangles.empty()) {
+    std::cerr << "lambert render: " << input << " has no patches to draw\n";
+    return 1;
+  }
+  // The camera is given in scene units; the patches of a solved scene are in metres.
+  Camera camera = default_camera(patches.triangles);
+  camera.eye = {camera.eye.x / unit_m, camera.eye.y / unit_m, camera.eye.z / unit_m};
+  camera.look = {camera.look.x / unit_m, camera.look.y / unit_m, camera.look.z / unit_m};
+  try {
+    camera = parse_camera(camera_text, camera);
+  } catch (const std::invalid_argument& e) {
+    return render_usage_error(e.what());
+  }
+  camera.eye = {camera.eye.x * unit_m, camera.eye.y * unit_m, camera.eye.z * unit_m};
+  camera.look = {camera.look.x * unit_m, camera.look.y * unit_m, camera.look.z * unit_m};
+  try {
+    render(patches, camera, options).write_png(output);
+  } catch (const std::exception& e) {
+    std::cerr << "lambert render: " << e.what() << "\n";
+    return 1;
+  }
+  std::cout << "wrote " << output << " (" << camera.width << "x" << camera.height << ", "
+            << patches.triangles.size() << " patches)\n";
+  return 0;
+}
+
+}  // namespace lambert
