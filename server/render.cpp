@@ -22,10 +22,6 @@ namespace {
 
 constexpr Rgb kBackground{32, 32, 32};
 
-// The inverse of srgb_encode (IEC 61966-2-1), for the background's linear value.
-double srgb_to_linear(double encoded) {
-  return encoded <= 0.04045 ? encoded / 12.92 : std::pow((encoded + 0.055) / 1.055, 2.4);
-}
 
 Vector3 parse_triple(const std::string& key, const std::string& value) {
   double v[3];
@@ -231,7 +227,7 @@ Image render(const RenderPatches& patches, const Camera& camera, const RenderOpt
             const int hit = trace(dir, point);
             if (hit < 0) {
               const double bg[3] = {kBackground.r / 255.0, kBackground.g / 255.0, kBackground.b / 255.0};
-              for (int c = 0; c < 3; ++c) sum[c] += options.false_colour == FalseColour::None ? srgb_to_linear(bg[c]) : bg[c];
+              for (int c = 0; c < 3; ++c) sum[c] += options.false_colour == FalseColour::None ? srgb_decode(bg[c]) : bg[c];
               continue;
             }
             if (options.false_colour != FalseColour::None) {

@@ -52,10 +52,6 @@ struct ResultPatches {
   std::map<std::string, int> surface_index;
 };
 
-double srgb_to_linear(double encoded) {
-  return encoded <= 0.04045 ? encoded / 12.92 : std::pow((encoded + 0.055) / 1.055, 2.4);
-}
-
 ResultPatches result_patches(const json& doc) {
   ResultPatches out;
   const json& list = doc.at("patches");
@@ -95,7 +91,7 @@ ResultPatches result_patches(const json& doc) {
         if (!e.is_number() || !(srgb[k] > 0)) continue;
         const double encoded = e.get<double>();
         if (encoded > 0.05 && encoded < 0.95) {
-          out.white_cd_m2 = srgb[k] / srgb_to_linear(encoded);
+          out.white_cd_m2 = srgb[k] / srgb_decode(encoded);
           break;
         }
       }

@@ -356,6 +356,13 @@ double srgb_encode(double linear) {
   return 1.055 * std::pow(linear, 1.0 / 2.4) - 0.055;
 }
 
+// IEC 61966-2-1:1999 §5.2, the decoding half.
+double srgb_decode(double encoded) {
+  if (!(encoded > 0.0)) return 0.0;
+  if (encoded >= 1.0) return 1.0;
+  return encoded <= 0.04045 ? encoded / 12.92 : std::pow((encoded + 0.055) / 1.055, 2.4);
+}
+
 // ---- CIE S 026 melanopic ----
 
 double cie_s026_melanopic(double nm) { return interpolate_1nm(kMelanopic1nm, 1, nm); }

@@ -65,6 +65,7 @@ std::array<double, 3> xyz_to_linear_ebu_rgb(const Xyz& c);   // EBU Tech 3213 pr
 std::array<double, 3> xyz_to_linear_srgb(const Xyz& c);      // IEC 61966-2-1 primaries
 Xyz linear_ebu_rgb_to_xyz(const std::array<double, 3>& rgb);  // the inverse of xyz_to_linear_ebu_rgb
 double srgb_encode(double linear);                           // IEC 61966-2-1 transfer, clamped to [0,1]
+double srgb_decode(double encoded);                          // its inverse on [0,1], clamped likewise
 
 // ---- CIE S 026:2018 melanopic quantities (ipRGC-influenced responses to light) ----
 // s_mel(λ): the melanopic action spectrum, 1 at its peak (490 nm), linear between the standard's

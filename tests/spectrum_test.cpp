@@ -341,6 +341,15 @@ TEST(SrgbEncode, CurvePoints) {
   EXPECT_NEAR(srgb_encode(0.0031308), 0.0404499, 1e-6);
 }
 
+TEST(SrgbDecode, InvertsTheEncodingOnBothSegments) {
+  EXPECT_NEAR(srgb_decode(0.735356983), 0.5, 1e-8);
+  EXPECT_NEAR(srgb_decode(0.01292), 0.001, 1e-12);
+  for (double x : {1e-4, 0.002, 0.0031308, 0.01, 0.2, 0.7, 0.999})
+    EXPECT_NEAR(srgb_decode(srgb_encode(x)), x, 1e-12 + 1e-9 * x) << x;
+  EXPECT_EQ(srgb_decode(-1), 0.0);
+  EXPECT_EQ(srgb_decode(2), 1.0);
+}
+
 TEST(SrgbEncode, ClampsToUnitInterval) {
   EXPECT_EQ(srgb_encode(-0.2), 0.0);
   EXPECT_EQ(srgb_encode(3.0), 1.0);
