@@ -438,7 +438,7 @@ Loop2d without_collinear_vertices(Loop2d loop, double eps) {
 
 }  // namespace
 
-SliverMerge merge_sliver_regions(const TriangleMesh& mesh, double tolerance) {
+SliverMerge merge_sliver_regions(const TriangleMesh& mesh, double tolerance, double fine_area) {
   SliverMerge out;
   out.mesh = mesh;
   Bounds3 box;
@@ -452,6 +452,7 @@ SliverMerge merge_sliver_regions(const TriangleMesh& mesh, double tolerance) {
     double d = 0;
     std::vector<int> triangles;
     bool has_sliver = false;
+    double area = 0;
   };
   std::map<std::tuple<long long, long long, long long, long long>, Region> regions;
   auto q = [](double x, double unit) { return static_cast<long long>(std::llround(x / unit)); };
@@ -461,19 +462,26 @@ SliverMerge merge_sliver_regions(const TriangleMesh& mesh, double tolerance) {
     if (!(area > 0) || !std::isfinite(area)) continue;
     const Vector3 n = tri.normal();
     const double d = dot(n, tri.v[0] - centre);
-    Region& r = regions.try_emplace({q(n.x, 1e-9), q(n.y, 1e-9), q(n.z, 1e-9), q(d, eps)}, Region{n, d, {}, false})
+    Region& r = regions.try_emplace({q(n.x, 1e-9), q(n.y, 1e-9), q(n.z, 1e-9), q(d, eps)}, Region{n, d, {}, false, 0})
                     .first->second;
     r.triangles.push_back(t);
+    r.area += area;
     const double longest = tri.max_edge_length();
     const bool sliver = longest * longest > kSliverElongation * area;
     r.has_sliver |= sliver;
     out.slivers += sliver;
   }
-  if (out.slivers == 0) return out;
+  auto over_tessellated = [&](const Region& r) {
+    return fine_area > 0 && r.triangles.size() >= 64 && r.area / static_cast<double>(r.triangles.size()) < fine_area;
+  };
+  if (out.slivers == 0 && std::none_of(regions.begin(), regions.end(),
+                                       [&](const auto& kv) { return over_tessellated(kv.second); }))
+    return out;
   std::vector<char> replaced(mesh.triangles.size(), 0);
   std::vector<std::array<int, 3>> added;
   for (auto& [key, region] : regions) {
-    if (!region.has_sliver || region.triangles.size() < 2) continue;
+    const bool fine = over_tessellated(region);
+    if ((!region.has_sliver && !fine) || region.triangles.size() < 2) continue;
     const Vector3& n = region.n;
     const Vector3 u = perpendicular(n);
     const Vector3 v = cross(n, u);  // (u, v, n) right-handed: counter-clockwise about n is CCW in (u, v)
@@ -537,6 +545,10 @@ SliverMerge merge_sliver_regions(const TriangleMesh& mesh, double tolerance) {
     for (const auto& tri : pieces) added.push_back({base + tri[0], base + tri[1], base + tri[2]});
     for (int t : region.triangles) replaced[t] = 1;
     ++out.regions;
+    if (fine && !region.has_sliver) {
+      ++out.fine_regions;
+      out.fine_triangles += region.triangles.size();
+    }
   }
   if (out.regions == 0) return out;
   out.mesh.triangles.clear();

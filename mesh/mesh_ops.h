@@ -43,15 +43,20 @@ MeshHealth check_mesh(const TriangleMesh& mesh);
 // Polygon_set_2), collinear boundary vertices dropped, and the union triangulated again (constrained
 // Delaunay), so that patches follow the region's shape instead of its strips: a 3 m × 4 cm strip
 // would otherwise carry one radiosity over 3 m, and every strip would be a separate occluder and
-// input triangle. Regions without slivers are left as they are. Orientation is kept; `tolerance`
-// (relative to the mesh's bounding-box diagonal) decides coplanarity and collinearity.
+// input triangle. Regions without slivers are left as they are, unless `fine_area` > 0 and the
+// region is over-tessellated: at least 64 triangles whose mean area is below fine_area (a CAD export
+// that cuts a planar face into thousands of small triangles; the solver passes 1/16 of its patch
+// area, so that patches are cut from the joined region at the patch size instead of one per input
+// triangle). Orientation is kept; `tolerance` (relative to the mesh's bounding-box diagonal) decides
+// coplanarity and collinearity.
 inline constexpr double kSliverElongation = 40;
 struct SliverMerge {
   TriangleMesh mesh;
   std::size_t slivers = 0;  // sliver triangles found
-  std::size_t regions = 0;  // planar regions re-triangulated
+  std::size_t regions = 0;  // planar regions re-triangulated (for slivers or for being fine)
+  std::size_t fine_regions = 0, fine_triangles = 0;  // of those, over-tessellated ones and their triangles
 };
-SliverMerge merge_sliver_regions(const TriangleMesh& mesh, double tolerance = 1e-9);
+SliverMerge merge_sliver_regions(const TriangleMesh& mesh, double tolerance = 1e-9, double fine_area = 0);
 
 struct ContactImprint {
   std::vector<TriangleMesh> meshes;  // the input meshes, with cut triangles replaced by their pieces

@@ -186,6 +186,7 @@ std::string encode_result(const Scene& scene, const Solution& sol, const Report&
       {"max_patch_area_m2", st.max_patch_area_m2},
       {"adaptive_rounds", st.adaptive_rounds},
       {"direct_refinement_patches", st.direct_refinement_patches},
+      {"fine_regions_remeshed", st.fine_regions_remeshed},
       {"contact_triangles_cut", st.contact_triangles_cut},
       {"sliver_regions_remeshed", st.sliver_regions_remeshed},
       {"contact_area_m2", st.contact_area_m2},

@@ -325,13 +325,24 @@ Solution solve(const Scene& scene, const SolveControl& control) {
   // (mesh_ops.h, merge_sliver_regions), so that patches follow the regions and not the strips.
   std::vector<TriangleMesh> meshes;
   meshes.reserve(scene.surfaces.size());
-  std::size_t slivers = 0, sliver_regions = 0;
-  std::vector<std::string> sliver_surfaces;
+  // Over-tessellated planar regions too (input triangles far smaller than the patches): joined, they
+  // give patches of the patch size instead of one per input triangle.
+  std::size_t slivers = 0, sliver_regions = 0, fine_regions = 0, fine_triangles = 0;
+  std::size_t sliver_surface_count = 0, fine_surface_count = 0;  // surfaces with such regions
+  std::vector<std::string> sliver_surfaces, fine_surfaces;
+  const double fine_area = scene.meshing.max_patch_area_m2.value_or(default_max_patch_area(scene)) / 16;
   for (const Surface& s : scene.surfaces) {
-    SliverMerge merged = merge_sliver_regions(s.mesh);
-    slivers += merged.regions > 0 ? merged.slivers : 0;
-    sliver_regions += merged.regions;
-    if (merged.regions > 0 && sliver_surfaces.size() < 3) sliver_surfaces.push_back("\"" + s.name + "\"");
+    check_cancel(control);
+    SliverMerge merged = merge_sliver_regions(s.mesh, 1e-9, fine_area);
+    const std::size_t for_slivers = merged.regions - merged.fine_regions;
+    slivers += for_slivers > 0 ? merged.slivers : 0;
+    sliver_regions += for_slivers;
+    fine_regions += merged.fine_regions;
+    fine_triangles += merged.fine_triangles;
+    sliver_surface_count += for_slivers > 0;
+    fine_surface_count += merged.fine_regions > 0;
+    if (for_slivers > 0 && sliver_surfaces.size() < 3) sliver_surfaces.push_back("\"" + s.name + "\"");
+    if (merged.fine_regions > 0 && fine_surfaces.size() < 3) fine_surfaces.push_back("\"" + s.name + "\"");
     meshes.push_back(std::move(merged.mesh));
   }
   ContactImprint imprint = imprint_contacts(meshes);
@@ -348,17 +359,27 @@ Solution solve(const Scene& scene, const SolveControl& control) {
   auto finish = [&](Solution sol) {
     sol.warnings.insert(sol.warnings.end(), overlap_warnings.begin(), overlap_warnings.end());
     sol.stats.sliver_regions_remeshed = sliver_regions;
+    sol.stats.fine_regions_remeshed = fine_regions;
+    if (fine_regions > 0) {
+      std::string names;
+      for (const std::string& n : fine_surfaces) names += (names.empty() ? "" : ", ") + n;
+      sol.warnings.push_back(std::to_string(fine_triangles) + " input triangles in " + std::to_string(fine_regions) +
+                             " planar regions (surfaces " + names + (fine_surfaces.size() < fine_surface_count ? ", ..." : "") +
+                             "), each on average smaller than 1/16 of meshing.max_patch_area, were joined and "
+                             "triangulated again: patches are cut from the regions at meshing.max_patch_area, "
+                             "not one per input triangle (set a smaller max_patch_area for finer patches)");
+    }
     if (sliver_regions > 0) {
       std::string names;
       for (const std::string& n : sliver_surfaces) names += (names.empty() ? "" : ", ") + n;
       sol.warnings.push_back(std::to_string(slivers) + " sliver triangles (thinner than about 1:20) in " +
                              std::to_string(sliver_regions) + " planar regions (surfaces " + names +
-                             (sliver_surfaces.size() < sliver_regions ? ", ..." : "") +
+                             (sliver_surfaces.size() < sliver_surface_count ? ", ..." : "") +
                              ") were joined and triangulated again: patches follow the regions, not the strips");
     }
     return sol;
   };
-  if (imprint.triangles_cut == 0 && sliver_regions == 0) return finish(solve_method(scene, control));
+  if (imprint.triangles_cut == 0 && sliver_regions == 0 && fine_regions == 0) return finish(solve_method(scene, control));
   Scene cut = scene;
   for (std::size_t s = 0; s < cut.surfaces.size(); ++s) {
     cut.surfaces[s].mesh = std::move(imprint.meshes[s]);

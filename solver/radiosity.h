@@ -56,6 +56,7 @@ struct SolveStats {
   std::size_t enclosed_patches = 0;      // patches inside closed solids, left out of the result
   int adaptive_rounds = 0;             // meshing.adaptive: how many refine-and-solve rounds ran
   std::size_t direct_refinement_patches = 0;  // meshing.refine_direct: patches added before the solve
+  std::size_t fine_regions_remeshed = 0;  // over-tessellated planar regions joined before meshing
 };
 
 // One source's share of the solution (output.per_source). The radiosity equation is linear in the

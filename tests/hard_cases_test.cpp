@@ -78,6 +78,42 @@ TEST(HardCases, ALitRoomOfSliverStripsSolvesLikeThePlainRoom) {
     EXPECT_NEAR(strips.probes[k].irradiance[0] / plain.probes[k].irradiance[0], 1, 2e-2) << "probe " << k;
 }
 
+// The same room with every face cut into an n × n grid of small squares (two triangles each).
+std::vector<Triangle> fine_room(const Point3& lo, const Point3& hi, int n) {
+  std::vector<Triangle> out;
+  test::for_each_box_face(lo, hi, [&](const Point3& o, const Vector3& u, const Vector3& v) {
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j)
+        for (const Triangle& t : rectangle(o + u * (double(i) / n) + v * (double(j) / n), u / double(n), v / double(n)))
+          out.push_back(t);
+  });
+  return out;
+}
+
+TEST(HardCases, AFinelyTessellatedRoomSolvesLikeThePlainRoom) {
+  // The lit room above with each face exported as 60 × 60 squares: 43 200 input triangles of
+  // 1.7–4.2 dm², far below the 0.05 m² patches. Joined per face before meshing, the room solves as
+  // the plain one does; without the join every input triangle would be a patch, 43 200 of them.
+  Solution plain_and_fine[2];
+  for (int fine : {0, 1}) {
+    SceneBuilder b;
+    const int grey = b.material("grey", 0.5);
+    b.surface("room", grey, fine ? fine_room({0, 0, 0}, {4, 3, 2.5}, 60) : box({0, 0, 0}, {4, 3, 2.5}, true));
+    b.point_light({3, 2, 2}, 100);
+    b.max_patch_area(0.05);
+    plain_and_fine[fine] = solve(b.scene());
+  }
+  const Solution& plain = plain_and_fine[0];
+  const Solution& fine = plain_and_fine[1];
+  EXPECT_EQ(plain.stats.fine_regions_remeshed, 0u);
+  EXPECT_EQ(fine.stats.fine_regions_remeshed, 6u);
+  EXPECT_LT(fine.patches.size(), 2 * plain.patches.size());
+  EXPECT_NEAR(surface_mean(fine, 0, fine.irradiance) / surface_mean(plain, 0, plain.irradiance), 1, 1e-6);
+  bool warned = false;
+  for (const std::string& w : fine.warnings) warned |= w.find("43200 input triangles in 6 planar regions") != std::string::npos;
+  EXPECT_TRUE(warned);
+}
+
 TEST(HardCases, TinyAndHugeScalesGiveTheSameFactor) {
   const double F = test::howell_c11(1, 1);  // 0.1998248957
   for (double scale : {1e-4, 1e-2, 1e2, 1e4}) EXPECT_NEAR(opposed_plates(1, 1, 1, scale, {}), F, 1e-4 * F) << scale;

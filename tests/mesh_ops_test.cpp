@@ -772,5 +772,51 @@ TEST(MergeSliverRegions, MeshesWithoutSliversAreReturnedAsTheyAre) {
   EXPECT_EQ(r.mesh.triangles, mesh.triangles);
 }
 
+// A 3 × 3 square at height z cut into an n × n grid of squares (two triangles each), without the
+// cells of the middle third when `hole`, facing up or down.
+TriangleMesh fine_grid(int n, double z, bool hole, bool up) {
+  TriangleMesh m;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) m.vertices.push_back({3.0 * i / n, 3.0 * j / n, z});
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const double x = 3.0 * (i + 0.5) / n, y = 3.0 * (j + 0.5) / n;
+      if (hole && x > 1 && x < 2 && y > 1 && y < 2) continue;
+      const int a = j * (n + 1) + i, b = a + 1, c = a + n + 1, d = c + 1;
+      if (up)
+        m.triangles.push_back({a, b, d}), m.triangles.push_back({a, d, c});
+      else
+        m.triangles.push_back({a, d, b}), m.triangles.push_back({a, c, d});
+    }
+  return m;
+}
+
+TEST(MergeSliverRegions, OverTessellatedRegionsAreJoinedWhenAskedTo) {
+  for (bool up : {true, false}) {
+    const TriangleMesh mesh = fine_grid(30, 0.5, true, up);  // 1 600 triangles of 0.005 m², a 1 × 1 hole
+    ASSERT_EQ(mesh.triangles.size(), 2u * (900 - 100));
+    // Not asked (fine_area 0), or the triangles not small enough: left as they are.
+    EXPECT_EQ(merge_sliver_regions(mesh).mesh.triangles, mesh.triangles);
+    EXPECT_EQ(merge_sliver_regions(mesh, 1e-9, 0.004).mesh.triangles, mesh.triangles);
+    const SliverMerge r = merge_sliver_regions(mesh, 1e-9, 0.01);
+    EXPECT_EQ(r.slivers, 0u);
+    EXPECT_EQ(r.regions, 1u);
+    EXPECT_EQ(r.fine_regions, 1u);
+    EXPECT_EQ(r.fine_triangles, mesh.triangles.size());
+    EXPECT_LT(r.mesh.triangles.size(), 20u);          // the square with a hole: 8 triangles
+    EXPECT_NEAR(mesh_area(r.mesh), 8.0, 1e-12);       // nothing lost or doubled; the hole stays
+    for (std::size_t t = 0; t < r.mesh.triangles.size(); ++t) {
+      const Triangle tri = r.mesh.triangle(t);
+      EXPECT_NEAR(tri.normal().z, up ? 1.0 : -1.0, 1e-12) << "orientation kept";
+      const Point3 g = tri.centroid();
+      EXPECT_NEAR(g.z, 0.5, 1e-12);
+      EXPECT_FALSE(g.x > 1 && g.x < 2 && g.y > 1 && g.y < 2) << "a triangle in the hole";
+    }
+  }
+  // Fewer than 64 triangles: a deliberately small mesh is not touched.
+  const TriangleMesh few = fine_grid(5, 0, false, true);  // 50 triangles
+  EXPECT_EQ(merge_sliver_regions(few, 1e-9, 10.0).mesh.triangles, few.triangles);
+}
+
 }  // namespace
 }  // namespace lambert
