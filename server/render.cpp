@@ -178,10 +178,15 @@ Image render(const RenderPatches& patches, const Camera& camera, const RenderOpt
     const Triangle& t = patches.triangles[i];
     const Vector3 n = t.area_vector();
     const double whole = dot(n, n);
+    // Barycentric weights: the sub-triangle opposite each vertex against the whole (clamped, so a
+    // point a rounding error outside gets the nearest edge's values).
     double w[3];
-    for (int k = 0; k < 3; ++k)
-      w[k] = whole > 0 ? std::clamp(dot(cross(t.v[(k + 2) % 3] - t.v[(k + 1) % 3], point - t.v[(k + 1) % 3]), n) / whole, 0.0, 1.0) : 1.0 / 3;
+    for (int k = 0; k < 3; ++k) {
+      const Point3 &a = t.v[(k + 1) % 3], &b = t.v[(k + 2) % 3];
+      w[k] = whole > 0 ? std::clamp(dot(cross(b - a, point - a), n) / whole, 0.0, 1.0) : 1.0;
+    }
     const double total = w[0] + w[1] + w[2];
+    if (!(total > 0)) return patches.srgb[i];
     std::array<double, 3> out{0, 0, 0};
     for (int k = 0; k < 3; ++k)
       for (int c = 0; c < 3; ++c) out[c] += w[k] / total * vertex_srgb[3 * i + k][c];
@@ -207,7 +212,7 @@ Image render(const RenderPatches& patches, const Camera& camera, const RenderOpt
       const double t = along != 0 ? dot(patches.triangles[hit].v[0] - from, n) / along : 0.0;
       point = from + dir * std::max(t, 0.0);
       if (along < 0) return hit;
-      from = point + dir * (1e-9 * far);
+      from = point + dir * (1e-6 * far);  // past the back face (Embree works in float)
     }
     return -1;
   };

@@ -760,13 +760,13 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
   // meshing.refine_direct, as in the dense solver (patch_refinement.h): leaves where the direct light
   // jumps between neighbours, or next to a probe point, are split, in up to two rounds; a round that
   // would pass the patch limit is not taken.
-  if (scene.meshing.refine_direct.value_or(false) && (!scene.lights.empty() || std::any_of(scene.surfaces.begin(), scene.surfaces.end(),
-                                                                           [](const Surface& x) { return x.emission.has_value(); }))) {
+  if (scene.meshing.refine_direct.value_or(false) && has_direct_light(scene)) {
     const std::size_t base = h.leaves.size();
     const Visibility roots_vis(occluders);
     for (int round = 0; round < 2; ++round) {
       const std::vector<Patch> patches = leaf_patches();
-      std::vector<char> marked = where_varies(patches, direct_irradiance_totals(scene, patches, roots_vis, control), kDirectRatio);
+      std::vector<char> marked =
+          where_varies(patches, direct_irradiance_totals(scene, patches, roots_vis, control), kDirectRatio);
       if (round == 0) mark_near_probes(patches, scene.probes, marked);
       std::size_t added = 0;
       for (std::size_t i = 0; i < patches.size(); ++i)

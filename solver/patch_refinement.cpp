@@ -190,4 +190,9 @@ std::vector<double> direct_irradiance_totals(const Scene& scene, const std::vect
   return q;
 }
 
+bool has_direct_light(const Scene& scene) {
+  return !scene.lights.empty() ||
+         std::any_of(scene.surfaces.begin(), scene.surfaces.end(), [](const Surface& s) { return s.emission.has_value(); });
+}
+
 }  // namespace lambert

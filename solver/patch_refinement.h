@@ -36,6 +36,9 @@ std::vector<Patch> split_marked(const std::vector<Patch>& patches, const std::ve
 // Marks the patches that a probe point sees from closer than 0.71 times their longest edge.
 void mark_near_probes(const std::vector<Patch>& patches, const std::vector<Probe>& probes, std::vector<char>& marked);
 
+// Whether the scene has anything that lights patches directly (a light or an emitting surface).
+bool has_direct_light(const Scene& scene);
+
 // Each patch's direct irradiance, radiometric total: lights and Phong emitters (patch_factor),
 // Lambertian emitting patches (exact factor times ray visibility; left out where more than an eighth
 // of the patches emit). Throws SolveCancelled when control.cancel is set.

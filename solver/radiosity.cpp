@@ -147,9 +147,7 @@ std::vector<Patch> mesh_patches(const Scene& scene, double max_area) {
 // A round that would exceed `limit` patches is not taken.
 std::vector<Patch> refine_where_direct_light_varies(const Scene& scene, std::vector<Patch> patches, double max_area,
                                                     std::size_t limit, const SolveControl& control) {
-  if (scene.lights.empty() && std::none_of(scene.surfaces.begin(), scene.surfaces.end(),
-                                           [](const Surface& s) { return s.emission.has_value(); }))
-    return patches;
+  if (!has_direct_light(scene)) return patches;
   std::vector<Triangle> input_triangles;
   for (const Surface& surface : scene.surfaces)
     for (std::size_t t = 0; t < surface.mesh.triangles.size(); ++t) input_triangles.push_back(surface.mesh.triangle(t));
@@ -434,8 +432,10 @@ Solution solve_method(const Scene& scene, const SolveControl& control) {
   for (int round = 1; round <= kAdaptiveRounds; ++round) {
     std::vector<Patch> refined = refine_where_irradiance_varies(sol);
     if (refined.size() == sol.patches.size()) break;
+    const std::size_t direct_refinement = sol.stats.direct_refinement_patches;  // of the first pass
     sol = solve_dense(scene, pass_control(round), &refined);
     sol.stats.adaptive_rounds = round;
+    sol.stats.direct_refinement_patches = direct_refinement;
   }
   sol.stats.time_total_s = seconds_since(t_start);
   if (control.progress) control.progress(1.0);
