@@ -16,23 +16,31 @@
 
 namespace lambert {
 
-// Visible fractions between patch a and each of `partners` (indices into `patches`); each ray weighted
-// by the differential kernel at its ends (visible_fraction.h, traced as one stream per round).
-std::size_t patch_visible_fractions(const Patch& a, std::span<const std::size_t> partners,
-                                    const std::vector<Patch>& patches, const Visibility& vis,
-                                    std::span<double> fractions) {
+std::vector<Point3> lifted_visibility_samples(const std::vector<Patch>& patches, const Visibility& vis) {
+  std::vector<Point3> out(patches.size() * kMaxVisibilitySamples);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, patches.size(), 256), [&](const auto& range) {
+    for (std::size_t i = range.begin(); i != range.end(); ++i)
+      for (int k = 0; k < kMaxVisibilitySamples; ++k)
+        out[i * kMaxVisibilitySamples + k] = vis.lift(visibility_sample(patches[i].triangle, k), patches[i].normal);
+  });
+  return out;
+}
+
+std::size_t patch_visible_fractions(std::size_t a, std::span<const std::size_t> partners,
+                                    const std::vector<Patch>& patches, std::span<const Point3> samples,
+                                    const Visibility& vis, std::span<double> fractions) {
+  const Point3* near = &samples[a * kMaxVisibilitySamples];
+  const Vector3 na = patches[a].normal;
   return weighted_visible_fractions(
       vis, partners.size(),
       [&](std::size_t l, int k) {
-        const Patch& b = patches[partners[l]];
-        return std::pair{vis.lift(visibility_sample(a.triangle, k), a.normal),
-                         vis.lift(visibility_sample(b.triangle, paired_sample(k)), b.normal)};
+        return std::pair{near[k], samples[partners[l] * kMaxVisibilitySamples + paired_sample(k)]};
       },
-      [&](std::size_t l, const Point3& p, const Point3& q) {
-        return link_weight(p, a.normal, q, patches[partners[l]].normal);
-      },
+      [&](std::size_t l, const Point3& p, const Point3& q) { return link_weight(p, na, q, patches[partners[l]].normal); },
       fractions);
 }
+
+constexpr double kCoplanarCos = 0.9999;  // normals within about 0.8°
 
 // Marks the patches whose quantity q (an irradiance, radiometric total Σ_λ w_λ H(λ)) is more than
 // `ratio` times a neighbour's (same surface, sharing a vertex), or less than 1/ratio of it, and differs
@@ -56,6 +64,9 @@ std::vector<char> where_varies(const std::vector<Patch>& patches, const std::vec
     for (std::size_t a = 0; a < list.size(); ++a)
       for (std::size_t b = a + 1; b < list.size(); ++b) {
         const std::size_t i = list[a], j = list[b];
+        // Across a crease (a wall meeting a ceiling of the same surface) the light may jump without
+        // any shadow: only neighbours in one plane are compared.
+        if (dot(patches[i].normal, patches[j].normal) < kCoplanarCos) continue;
         const double hi = std::max(q[i], q[j]), lo = std::min(q[i], q[j]);
         if (hi > ratio * lo && hi - lo > 1e-3 * mean) marked[i] = marked[j] = 1;
       }
@@ -82,7 +93,7 @@ std::vector<Patch> split_marked(const std::vector<Patch>& patches, const std::ve
   return out;
 }
 
-// Marks the patches that a probe point sees from closer than 0.71 times the patch's longest edge
+// Marks the patches that a probe point sees from closer than 0.55 times the patch's longest edge
 // (the distance to the centroid): the point's irradiance then depends on how the radiosity varies
 // across the patch, which a constant patch does not resolve (a probe beside a box's shaded side).
 // The probe points are hashed into cubes as large as the largest such distance.
@@ -97,7 +108,7 @@ void mark_near_probes(const std::vector<Patch>& patches, const std::vector<Probe
     const Triangle& t = patches[i].triangle;
     double edge2 = 0;
     for (int k = 0; k < 3; ++k) edge2 = std::max(edge2, length_squared(t.v[(k + 1) % 3] - t.v[k]));
-    reach2[i] = 0.5 * edge2;
+    reach2[i] = 0.3 * edge2;
     cell = std::max(cell, std::sqrt(reach2[i]));
   }
   if (!(cell > 0)) return;
@@ -159,6 +170,7 @@ std::vector<double> direct_irradiance_totals(const Scene& scene, const std::vect
   }
   std::vector<double> source_total(sources.size());
   for (std::size_t k = 0; k < sources.size(); ++k) source_total[k] = total(sources[k]->spectrum());
+  const std::vector<Point3> samples = emitters.empty() ? std::vector<Point3>{} : lifted_visibility_samples(patches, vis);
   std::vector<double> q(N, 0.0);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, N, 8), [&](const auto& range) {
     thread_local std::vector<std::size_t> partners;
@@ -182,7 +194,7 @@ std::vector<double> direct_irradiance_totals(const Scene& scene, const std::vect
       }
       if (partners.empty()) continue;
       fraction.resize(partners.size());
-      patch_visible_fractions(a, partners, patches, vis, fraction);
+      patch_visible_fractions(i, partners, patches, samples, vis, fraction);
       for (std::size_t l = 0; l < partners.size(); ++l) q[i] += unoccluded[l] * fraction[l];
     }
   });

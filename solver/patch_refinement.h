@@ -19,21 +19,27 @@ namespace lambert {
 // blocks' penumbrae on the floor and walls.
 inline constexpr double kDirectRatio = 5;
 
-// Visible fractions between patch a and each of `partners` (indices into `patches`), from rays
-// weighted by the differential kernel (visible_fraction.h); also the dense solve's link visibility.
-std::size_t patch_visible_fractions(const Patch& a, std::span<const std::size_t> partners,
-                                    const std::vector<Patch>& patches, const Visibility& vis,
-                                    std::span<double> fractions);
+// The visibility samples of every patch, lifted off its surface (Visibility::lift): patch i's sample
+// k (visible_fraction.h, visibility_sample) at [i * kMaxVisibilitySamples + k]. Computed once, they
+// serve every link of the patch.
+std::vector<Point3> lifted_visibility_samples(const std::vector<Patch>& patches, const Visibility& vis);
+
+// Visible fractions between patch a (index into `patches`) and each of `partners`, from rays weighted
+// by the differential kernel (visible_fraction.h) between the patches' lifted samples; also the dense
+// solve's link visibility. Returns the rays traced.
+std::size_t patch_visible_fractions(std::size_t a, std::span<const std::size_t> partners,
+                                    const std::vector<Patch>& patches, std::span<const Point3> samples,
+                                    const Visibility& vis, std::span<double> fractions);
 
 // Marks patches whose quantity q (radiometric total Σ_λ w_λ H(λ)) is more than `ratio` times a
-// neighbour's on the same surface (sharing a vertex), or less than 1/ratio of it, and differs by
-// more than 0.1 % of the area-weighted mean of q.
+// neighbour's on the same surface and plane (sharing a vertex; not across a crease), or less than
+// 1/ratio of it, and differs by more than 0.1 % of the area-weighted mean of q.
 std::vector<char> where_varies(const std::vector<Patch>& patches, const std::vector<double>& q, double ratio);
 
 // The marked patches split 1:4, except those that would fall below min_area.
 std::vector<Patch> split_marked(const std::vector<Patch>& patches, const std::vector<char>& marked, double min_area);
 
-// Marks the patches that a probe point sees from closer than 0.71 times their longest edge.
+// Marks the patches that a probe point sees from closer than 0.55 times their longest edge.
 void mark_near_probes(const std::vector<Patch>& patches, const std::vector<Probe>& probes, std::vector<char>& marked);
 
 // Whether the scene has anything that lights patches directly (a light or an emitting surface).
