@@ -760,7 +760,7 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
   // meshing.refine_direct, as in the dense solver (patch_refinement.h): leaves where the direct light
   // jumps between neighbours, or next to a probe point, are split, in up to two rounds; a round that
   // would pass the patch limit is not taken.
-  if (scene.meshing.refine_direct.value_or(false) && has_direct_light(scene)) {
+  if (scene.meshing.refine_direct && has_direct_light(scene)) {
     const std::size_t base = h.leaves.size();
     const Visibility roots_vis(occluders);
     for (int round = 0; round < 2; ++round) {

@@ -466,7 +466,7 @@ Solution solve_dense(const Scene& scene, const SolveControl& control, const std:
   } else {
     sol.patches = mesh_patches(scene, max_area);
     const std::size_t base = sol.patches.size();
-    if (scene.meshing.refine_direct.value_or(true))
+    if (scene.meshing.refine_direct)
       sol.patches = refine_where_direct_light_varies(scene, std::move(sol.patches), max_area,
                                                      patch_limit(kMaxDensePatches, control), control);
     sol.stats.direct_refinement_patches = sol.patches.size() - base;

@@ -86,9 +86,8 @@ struct MeshingOptions {
   std::optional<double> max_patch_area_m2;  // absent: chosen from the scene's size
   bool adaptive = false;
   // Split patches where the direct light jumps, and next to probe points, before the solve
-  // (patch_refinement.h). Absent: on for the dense solver, off for the hierarchical one (where, in a
-  // sunlit city, it doubles the time; docs/BENCHMARKS.md).
-  std::optional<bool> refine_direct;
+  // (patch_refinement.h); both methods.
+  bool refine_direct = true;
 };
 
 // Dense: every patch pair (N² factors, exact up to ray noise; memory 8 N² bytes).

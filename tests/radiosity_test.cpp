@@ -363,8 +363,7 @@ TEST(AdaptiveMeshing, DirectRefinementSplitsOnlyAtTheShadowEdge) {
   EXPECT_GT(split, 0u);
 }
 
-// The hierarchical method splits its leaves by the same rules when asked (its default is off), and
-// gains as much.
+// The hierarchical method splits its leaves by the same rules, and gains as much.
 TEST(AdaptiveMeshing, DirectRefinementOfHierarchicalLeaves) {
   const Solution uniform = shadowed_floor(false, false, SolverMethod::Hierarchical);
   const Solution refined = shadowed_floor(true, false, SolverMethod::Hierarchical);
@@ -373,16 +372,6 @@ TEST(AdaptiveMeshing, DirectRefinementOfHierarchicalLeaves) {
   const double e_uniform = shadow_representation_error(uniform), e_refined = shadow_representation_error(refined);
   EXPECT_LT(e_refined, 0.6 * e_uniform) << e_uniform << " -> " << e_refined;
   EXPECT_LT(shadowed_floor_flux_error(refined), 5e-3);
-  // Unset, the hierarchical method does not split; the dense one does.
-  SceneBuilder b;
-  b.surface("floor", b.material("black", 0.0), rectangle({-1, -1, 0}, {2, 0, 0}, {0, 2, 0}));
-  b.surface("blocker", 0, rectangle({0.1, 0.0, 1}, {0, 0.4, 0}, {0.4, 0, 0}));
-  b.point_light({0, 0, 2}, 1.0);
-  b.max_patch_area(4.0 / 128);
-  b.scene().solver.method = SolverMethod::Hierarchical;
-  EXPECT_EQ(solve(b.scene()).stats.direct_refinement_patches, 0u);
-  b.scene().solver.method = SolverMethod::Dense;
-  EXPECT_GT(solve(b.scene()).stats.direct_refinement_patches, 0u);
 }
 
 // meshing.refine_direct also splits the patches that a probe point sees from closer than their size:

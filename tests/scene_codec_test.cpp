@@ -133,8 +133,7 @@ TEST(SceneCodec, DefaultsAndOptions) {
   EXPECT_DOUBLE_EQ(s->probes[0].normal.y, 1.0);  // normalised
   EXPECT_DOUBLE_EQ(*s->meshing.max_patch_area_m2, 0.25);
   EXPECT_TRUE(s->meshing.adaptive);
-  ASSERT_TRUE(s->meshing.refine_direct.has_value());
-  EXPECT_FALSE(*s->meshing.refine_direct);
+  EXPECT_FALSE(s->meshing.refine_direct);
   EXPECT_DOUBLE_EQ(s->solver.tolerance, 1e-3);
   EXPECT_EQ(s->solver.max_iterations, 1000);  // 1e3 is a whole number
   EXPECT_FALSE(s->output.spectral);
