@@ -43,9 +43,9 @@ std::size_t patch_visible_fractions(std::size_t a, std::span<const std::size_t> 
 constexpr double kCoplanarCos = 0.9999;  // normals within about 0.8°
 
 // Marks the patches whose quantity q (an irradiance, radiometric total Σ_λ w_λ H(λ)) is more than
-// `ratio` times a neighbour's (same surface, sharing a vertex), or less than 1/ratio of it, and differs
-// from it by more than 0.1 % of the area-weighted mean of q: shadow boundaries, contacts and hot
-// spots, not smooth or dark regions.
+// `ratio` times a neighbour's (same surface and plane, sharing a vertex), or less than 1/ratio of it,
+// and differs from it by more than 0.1 % of the area-weighted mean of q: shadow boundaries, contacts
+// and hot spots, not smooth or dark regions.
 std::vector<char> where_varies(const std::vector<Patch>& patches, const std::vector<double>& q, double ratio) {
   const std::size_t N = patches.size();
   double mean = 0, area = 0;
