@@ -454,16 +454,14 @@ SliverMerge merge_sliver_regions(const TriangleMesh& mesh, double tolerance, dou
     bool has_sliver = false;
     double area = 0;
   };
-  std::map<std::tuple<long long, long long, long long, long long>, Region> regions;
-  auto q = [](double x, double unit) { return static_cast<long long>(std::llround(x / unit)); };
+  std::map<PlaneKey, Region> regions;
   for (int t = 0; t < static_cast<int>(mesh.triangles.size()); ++t) {
     const Triangle tri = mesh.triangle(t);
     const double area = tri.area();
     if (!(area > 0) || !std::isfinite(area)) continue;
     const Vector3 n = tri.normal();
     const double d = dot(n, tri.v[0] - centre);
-    Region& r = regions.try_emplace({q(n.x, 1e-9), q(n.y, 1e-9), q(n.z, 1e-9), q(d, eps)}, Region{n, d, {}, false, 0})
-                    .first->second;
+    Region& r = regions.try_emplace(plane_key(n, d, eps), Region{n, d, {}, false, 0}).first->second;
     r.triangles.push_back(t);
     r.area += area;
     const double longest = tri.max_edge_length();

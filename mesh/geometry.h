@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <tuple>
 #include <vector>
 
 namespace lambert {
@@ -82,6 +83,15 @@ inline bool any_in_front(const Triangle& a, const Vector3& na, const Triangle& b
   for (const Point3& p : b.v)
     if (dot(p - a.v[0], na) > 1e-12 * scale) return true;
   return false;
+}
+
+// A map key for the plane through a triangle (unit normal n, offset d from some common origin): the
+// normal quantised to 1e-9 and the offset to `offset_unit`, so that the triangles of one flat face,
+// which share their plane up to rounding, share a key and faces that only look alike do not.
+using PlaneKey = std::tuple<long long, long long, long long, long long>;
+inline PlaneKey plane_key(const Vector3& n, double d, double offset_unit) {
+  auto q = [](double x, double unit) { return static_cast<long long>(std::llround(x / unit)); };
+  return {q(n.x, 1e-9), q(n.y, 1e-9), q(n.z, 1e-9), q(d, offset_unit)};
 }
 
 // An indexed triangle mesh (front side: counter-clockwise vertex order).

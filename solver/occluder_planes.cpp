@@ -33,7 +33,7 @@ OccluderPlanes::OccluderPlanes(std::span<const Triangle> triangles) {
     Plane plane;
     std::vector<Vector3> vertices;
   };
-  std::map<std::tuple<long long, long long, long long, long long>, Candidate> distinct_planes;
+  std::map<PlaneKey, Candidate> distinct_planes;
   std::map<std::tuple<long long, long long, long long>, Vector3> distinct_points;
   auto q = [](double x, double unit) { return static_cast<long long>(std::llround(x / unit)); };
   for (const Triangle& t : triangles) {
@@ -41,9 +41,7 @@ OccluderPlanes::OccluderPlanes(std::span<const Triangle> triangles) {
     if (!(length(area) > 0)) continue;
     const Vector3 n = normalize(area);
     const double d = dot(n, t.v[0] - centre_);
-    Candidate& c = distinct_planes.try_emplace({q(n.x, 1e-9), q(n.y, 1e-9), q(n.z, 1e-9), q(d, eps_)},
-                                               Candidate{Plane{n, d}, {}})
-                       .first->second;
+    Candidate& c = distinct_planes.try_emplace(plane_key(n, d, eps_), Candidate{Plane{n, d}, {}}).first->second;
     for (const Point3& p : t.v) {
       const Vector3 r = p - centre_;
       c.vertices.push_back(r);
