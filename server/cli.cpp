@@ -47,15 +47,7 @@ std::optional<lambert::Scene> load_scene(const std::string& path) {
     std::cerr << "lambert: cannot read " << path << "\n";
     return std::nullopt;
   }
-  lambert::FileAccess files;
-  files.policy = lambert::FileAccess::Policy::Anywhere;
-  files.base_dir = std::filesystem::path(path).parent_path();
-  lambert::DecodeResult decoded = lambert::decode_scene(text, files);
-  if (!decoded.ok()) {
-    std::cerr << path << ": invalid scene\n" << lambert::format_errors(decoded.errors);
-    return std::nullopt;
-  }
-  return std::move(decoded.scene);
+  return lambert::decode_scene_file(path, text);
 }
 
 int check(const std::vector<std::string>& args) {

@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <sstream>
@@ -54,6 +55,22 @@ std::function<void(double)> terminal_progress() {
     if (percent != last) std::fprintf(stderr, "\rsolving: %3d %%", last = percent);
     if (percent >= 100) std::fprintf(stderr, "\n");
   };
+}
+
+FileAccess command_line_file_access(const std::string& scene_path) {
+  FileAccess files;
+  files.policy = FileAccess::Policy::Anywhere;
+  files.base_dir = std::filesystem::path(scene_path).parent_path();
+  return files;
+}
+
+std::optional<Scene> decode_scene_file(const std::string& path, const std::string& text) {
+  DecodeResult decoded = decode_scene(text, command_line_file_access(path));
+  if (!decoded.ok()) {
+    std::cerr << path << ": invalid scene\n" << format_errors(decoded.errors);
+    return std::nullopt;
+  }
+  return std::move(decoded.scene);
 }
 
 }  // namespace lambert

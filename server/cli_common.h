@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "server/scene_codec.h"
+
 namespace lambert {
 
 struct SceneCommandArgs {
@@ -22,6 +24,15 @@ std::optional<SceneCommandArgs> parse_scene_command(const std::vector<std::strin
 
 // Whole file as bytes; false if it cannot be read.
 bool read_text_file(const std::string& path, std::string& text);
+
+// How a scene read from the command line reaches its "file" surfaces: anywhere, relative paths
+// against the scene file's directory.
+FileAccess command_line_file_access(const std::string& scene_path);
+
+// Decodes `text`, the contents of the scene file at `path` (command_line_file_access); when it is
+// invalid, prints "PATH: invalid scene" and every error with its JSON pointer to stderr and returns
+// nullopt.
+std::optional<Scene> decode_scene_file(const std::string& path, const std::string& text);
 
 // A progress callback that redraws "solving: NN %" on stderr when stderr is a terminal (else none).
 std::function<void(double)> terminal_progress();

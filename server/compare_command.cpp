@@ -314,19 +314,13 @@ int run_compare_rgb(const std::vector<std::string>& args) {
     std::cerr << "lambert: cannot read " << scene_path << "\n";
     return 2;
   }
-  FileAccess files;
-  files.policy = FileAccess::Policy::Anywhere;
-  files.base_dir = std::filesystem::path(scene_path).parent_path();
-  DecodeResult spectral = decode_scene(text, files);
-  if (!spectral.ok()) {
-    std::cerr << scene_path << ": invalid scene\n" << format_errors(spectral.errors);
-    return 2;
-  }
-  if (spectral.scene->mode != SpectrumMode::Spectral) {
+  const std::optional<Scene> spectral = decode_scene_file(scene_path, text);
+  if (!spectral) return 2;
+  if (spectral->mode != SpectrumMode::Spectral) {
     std::cerr << scene_path << ": /spectrum/mode: compare-rgb needs a spectral scene (it makes the rgb twin itself)\n";
     return 2;
   }
-  DecodeResult rgb = decode_scene_as_rgb(text, files);
+  DecodeResult rgb = decode_scene_as_rgb(text, command_line_file_access(scene_path));
   if (!rgb.ok()) {
     std::cerr << scene_path << ": invalid in rgb mode\n" << format_errors(rgb.errors);
     return 2;
@@ -335,14 +329,14 @@ int run_compare_rgb(const std::vector<std::string>& args) {
   SolveControl control;
   control.progress = terminal_progress();
   try {
-    const RgbComparison comparison = compare_rgb(*spectral.scene, *rgb.scene, control);
-    std::cout << summarize_comparison(*spectral.scene, comparison);
+    const RgbComparison comparison = compare_rgb(*spectral, *rgb.scene, control);
+    std::cout << summarize_comparison(*spectral, comparison);
     std::printf("time: spectral solve %.3f s, rgb solve %.3f s (wall clock; varies between runs)\n",
                 comparison.time_spectral_s, comparison.time_rgb_s);
     std::fflush(stdout);
     if (!output_path.empty()) {
       std::ofstream out(output_path, std::ios::binary);
-      out << encode_comparison(*spectral.scene, comparison) << "\n";
+      out << encode_comparison(*spectral, comparison) << "\n";
       if (!out) {
         std::cerr << "lambert: cannot write " << output_path << "\n";
         return 1;

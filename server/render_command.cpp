@@ -253,15 +253,8 @@ int render_command(const std::vector<std::string>& args) {
       patches = std::move(result.patches);
       if (!options.white_cd_m2) options.white_cd_m2 = result.white_cd_m2;
     } else {
-      FileAccess files;
-      files.policy = FileAccess::Policy::Anywhere;
-      files.base_dir = std::filesystem::path(input).parent_path();
-      DecodeResult decoded = decode_scene(text, files);
-      if (!decoded.ok()) {
-        std::cerr << input << ": invalid scene\n" << format_errors(decoded.errors);
-        return 2;
-      }
-      scene = std::move(decoded.scene);
+      scene = decode_scene_file(input, text);
+      if (!scene) return 2;
       unit_m = scene->unit_m;
       SolveControl control;
       control.progress = terminal_progress();

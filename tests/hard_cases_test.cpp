@@ -40,12 +40,15 @@ TEST(HardCases, SliversAspect100) {
   EXPECT_NEAR(opposed_plates(10, 0.1, 0.1, 1, {}, 0.05), F, 1e-3 * F);
 }
 
-// A closed room (inward faces as box() makes them) whose every face is cut into n strips.
-std::vector<Triangle> strip_room(const Point3& lo, const Point3& hi, int n) {
+// A closed room (inward faces as box() makes them) whose every face is cut into nu × nv rectangles:
+// nv = 1 gives strips.
+std::vector<Triangle> cut_room(const Point3& lo, const Point3& hi, int nu, int nv) {
   std::vector<Triangle> out;
   test::for_each_box_face(lo, hi, [&](const Point3& o, const Vector3& u, const Vector3& v) {
-    for (int i = 0; i < n; ++i)
-      for (const Triangle& t : rectangle(o + u * (double(i) / n), u / double(n), v)) out.push_back(t);
+    for (int i = 0; i < nu; ++i)
+      for (int j = 0; j < nv; ++j)
+        for (const Triangle& t : rectangle(o + u * (double(i) / nu) + v * (double(j) / nv), u / double(nu), v / double(nv)))
+          out.push_back(t);
   });
   return out;
 }
@@ -59,7 +62,7 @@ TEST(HardCases, ALitRoomOfSliverStripsSolvesLikeThePlainRoom) {
   for (int strips : {0, 1}) {
     SceneBuilder b;
     const int grey = b.material("grey", 0.5);
-    b.surface("room", grey, strips ? strip_room({0, 0, 0}, {4, 3, 2.5}, 100) : box({0, 0, 0}, {4, 3, 2.5}, true));
+    b.surface("room", grey, strips ? cut_room({0, 0, 0}, {4, 3, 2.5}, 100, 1) : box({0, 0, 0}, {4, 3, 2.5}, true));
     b.point_light({3, 2, 2}, 100);
     b.probe("floor", {1, 1, 0.01}, {0, 0, 1});
     b.probe("wall", {0.01, 1.5, 1}, {1, 0, 0});
@@ -78,18 +81,6 @@ TEST(HardCases, ALitRoomOfSliverStripsSolvesLikeThePlainRoom) {
     EXPECT_NEAR(strips.probes[k].irradiance[0] / plain.probes[k].irradiance[0], 1, 2e-2) << "probe " << k;
 }
 
-// The same room with every face cut into an n × n grid of small squares (two triangles each).
-std::vector<Triangle> fine_room(const Point3& lo, const Point3& hi, int n) {
-  std::vector<Triangle> out;
-  test::for_each_box_face(lo, hi, [&](const Point3& o, const Vector3& u, const Vector3& v) {
-    for (int i = 0; i < n; ++i)
-      for (int j = 0; j < n; ++j)
-        for (const Triangle& t : rectangle(o + u * (double(i) / n) + v * (double(j) / n), u / double(n), v / double(n)))
-          out.push_back(t);
-  });
-  return out;
-}
-
 TEST(HardCases, AFinelyTessellatedRoomSolvesLikeThePlainRoom) {
   // The lit room above with each face exported as 60 × 60 squares: 43 200 input triangles of
   // 1.7–4.2 dm², far below the 0.05 m² patches. Joined per face before meshing, the room solves as
@@ -98,7 +89,7 @@ TEST(HardCases, AFinelyTessellatedRoomSolvesLikeThePlainRoom) {
   for (int fine : {0, 1}) {
     SceneBuilder b;
     const int grey = b.material("grey", 0.5);
-    b.surface("room", grey, fine ? fine_room({0, 0, 0}, {4, 3, 2.5}, 60) : box({0, 0, 0}, {4, 3, 2.5}, true));
+    b.surface("room", grey, fine ? cut_room({0, 0, 0}, {4, 3, 2.5}, 60, 60) : box({0, 0, 0}, {4, 3, 2.5}, true));
     b.point_light({3, 2, 2}, 100);
     b.max_patch_area(0.05);
     plain_and_fine[fine] = solve(b.scene());
