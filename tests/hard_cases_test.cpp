@@ -1,9 +1,13 @@
 // Numerically hard configurations (issue 4 §6), each against a closed form or an invariance:
 // nearly touching plates, reflectance 0.999, slivers, tiny and huge scales, geo-referenced
-// coordinates, a mis-oriented wall (reported light leak).
+// coordinates, a mis-oriented wall (reported light leak), a probe ray slipping through a seam.
 #include <gtest/gtest.h>
 
+#include <functional>
+#include <span>
+
 #include "solver/radiosity.h"
+#include "solver/visible_fraction.h"
 #include "tests/scene_builder.h"
 
 namespace lambert {
@@ -280,6 +284,53 @@ TEST(HardCases, MisorientedWallIsReportedAsALeak) {
   ASSERT_FALSE(sol.warnings.empty());
   EXPECT_NE(sol.warnings[0].find("back of a surface"), std::string::npos) << sol.warnings[0];
   for (double B : sol.radiosity) ASSERT_TRUE(std::isfinite(B) && B >= 0);
+}
+
+// The hemisphere probe with the rays' fates scripted: every ray meets the front of occluder 0 (a
+// closed room) unless `fate` says otherwise: −1 it escapes, 1 it meets the back of occluder 1.
+struct ScriptedTracer {
+  std::function<int(const Segment&)> fate;
+  Point3 lift(const Point3& p, const Vector3& n) const { return p + n * 1e-9; }
+  double scene_extent() const { return 2.0; }
+  int first_hit(const Point3& from, const Point3& to) const { return fate({from, to}); }
+  void first_hits(std::span<const Segment> segments, std::span<int> hits) const {
+    for (std::size_t k = 0; k < segments.size(); ++k) hits[k] = fate(segments[k]);
+  }
+};
+
+char probe(const ScriptedTracer& tracer) {
+  const Triangle floor{{Point3{0, 0, 0}, Point3{1, 0, 0}, Point3{0, 1, 0}}};
+  return probe_hemisphere(floor, {0, 0, 1}, 7, 64, tracer, [](int hit, const Vector3&) { return hit == 1; });
+}
+
+TEST(HardCases, AProbeRayGrazingAnEdgeDoesNotOpenAClosedPatch) {
+  // The probe's rays, in order, in a closed room.
+  std::vector<Segment> rays;
+  EXPECT_EQ(probe({[&](const Segment& s) { return rays.push_back(s), 0; }}), 1);
+  ASSERT_EQ(rays.size(), 64u);
+  // One of them (the 3rd, traced alone, or the 40th, traced in a stream) grazes an edge that runs
+  // along y through its origin, and escapes or meets a back face there; so does every ray parallel
+  // to it along that edge; rays beside it meet a front face.
+  for (int slip : {3, 40})
+    for (int what : {-1, 1}) {
+      const Segment edge = rays[static_cast<std::size_t>(slip)];
+      int calls = 0;
+      const ScriptedTracer tracer{[&](const Segment& s) {
+        ++calls;
+        const bool parallel = length((s.to - s.from) - (edge.to - edge.from)) < 1e-9;
+        return parallel && std::abs(s.from.x - edge.from.x) < 1e-12 ? what : 0;
+      }};
+      EXPECT_EQ(probe(tracer), 1) << "ray " << slip << " fate " << what;  // closed
+      EXPECT_EQ(calls, 64 + 2) << "ray " << slip << " fate " << what;  // and the ray's two twins
+    }
+}
+
+TEST(HardCases, AProbeStillFindsARealOpeningOrBackFace) {
+  // Rays within 25° of the zenith escape (a skylight), or meet a back face: so do their twins.
+  for (int what : {-1, 1}) {
+    const ScriptedTracer tracer{[&](const Segment& s) { return normalize(s.to - s.from).z > std::cos(0.436) ? what : 0; }};
+    EXPECT_EQ(probe(tracer), what < 0 ? 0 : 2) << "fate " << what;
+  }
 }
 
 }  // namespace
