@@ -110,6 +110,13 @@ class Hierarchy {
   std::vector<int> roots;           // element index of every root
   std::vector<std::pair<int, int>> root_block;  // [first, end) of each root's tree in `elements`
   std::vector<int> root_order;      // roots in BVH order (cluster ranges index into it)
+  // What a cluster's visibility samples need of its roots, in root_order: contiguous per cluster and
+  // a tenth of the elements' size, so the link rays' far ends do not miss the cache element by element.
+  struct RootSample {
+    Triangle tri;
+    Vector3 normal;
+  };
+  std::vector<RootSample> ordered_roots;
   std::vector<Cluster> clusters;    // clusters[0] is the top
   std::vector<int> leaves;          // element of each unknown
   std::vector<Link> links;
@@ -385,10 +392,10 @@ std::array<double, 3> linear_fit(const std::array<std::array<double, 3>, P>& bet
   return a;
 }
 
-// The root element drawn for visibility sample k (< 64) of a cluster: spread over its BVH range.
-int cluster_sample(const Hierarchy& h, const Cluster& C, int k) {
+// The root drawn for visibility sample k (< 64) of a cluster: spread over its BVH range.
+const Hierarchy::RootSample& cluster_sample(const Hierarchy& h, const Cluster& C, int k) {
   const int pick = (37 * k + 11) % kMaxVisibilitySamples;
-  return h.root_order[C.first_root + static_cast<int>(static_cast<long long>(pick) * C.root_count / kMaxVisibilitySamples)];
+  return h.ordered_roots[C.first_root + static_cast<int>(static_cast<long long>(pick) * C.root_count / kMaxVisibilitySamples)];
 }
 
 // The coefficient of a pending leaf-to-leaf link whose factor is computed once its rays find it visible.
@@ -543,10 +550,15 @@ class Refiner {
         [&](std::size_t l, int k) {
           const Link& link = out.pending[l];
           const Element& R = h_.elements[link.receiver];
-          const Element& S = h_.elements[link.from_cluster ? cluster_sample(h_, h_.clusters[link.source], k) : link.source];
+          const Point3 p = vis_.lift(visibility_sample(R.tri, k), R.normal);
+          if (link.from_cluster) {
+            const Hierarchy::RootSample& S = cluster_sample(h_, h_.clusters[link.source], k);
+            source_normal = S.normal;
+            return std::pair{p, vis_.lift(visibility_sample(S.tri, k), S.normal)};
+          }
+          const Element& S = h_.elements[link.source];
           source_normal = S.normal;
-          return std::pair{vis_.lift(visibility_sample(R.tri, k), R.normal),
-                           vis_.lift(visibility_sample(S.tri, link.from_cluster ? k : paired_sample(k)), S.normal)};
+          return std::pair{p, vis_.lift(visibility_sample(S.tri, paired_sample(k)), S.normal)};
         },
         [&](std::size_t l, const Point3& p, const Point3& q) {
           return link_weight(p, h_.elements[out.pending[l].receiver].normal, q, source_normal);
@@ -789,6 +801,7 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
   check_patch_count(static_cast<double>(N), false, kMaxHierarchicalPatches, control);
   h.root_order = h.roots;
   if (!h.roots.empty()) build_clusters(h, 0, static_cast<int>(h.roots.size()));
+  for (int root : h.root_order) h.ordered_roots.push_back({h.elements[root].tri, h.elements[root].normal});
   sol.patches = leaf_patches();
   sol.stats.patches = N;
   sol.stats.time_meshing_s = seconds_since(t0);
@@ -1141,7 +1154,7 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
                   const double v = weighted_visible_fraction(
                       vis,
                       [&](int j) {
-                        const Element& S = h.elements[cluster_sample(h, C, j)];
+                        const Hierarchy::RootSample& S = cluster_sample(h, C, j);
                         source_normal = S.normal;
                         return std::pair{from, vis.lift(visibility_sample(S.tri, j), S.normal)};
                       },

@@ -80,6 +80,7 @@ Visibility::Visibility(std::span<const Triangle> occluders) : impl_(std::make_un
   const double size = bounds.empty() ? 1.0 : std::max(length(bounds.diagonal()), 1e-30);
   // Float positions carry ~3e-8 × size absolute error after re-centring; stay well above it.
   impl_->epsilon_m = 4e-6 * size;
+  lift_m_ = impl_->epsilon_m;
   impl_->scene_size = size;
 
   impl_->scene = rtcNewScene(device);
@@ -137,10 +138,6 @@ int Visibility::first_hit(const Point3& from, const Point3& to) const {
   rtcIntersect1(impl_->scene, &context, &rayhit);
   impl_->rays.fetch_add(1, std::memory_order_relaxed);
   return rayhit.hit.geomID == RTC_INVALID_GEOMETRY_ID ? -1 : static_cast<int>(rayhit.hit.primID);
-}
-
-Point3 Visibility::lift(const Point3& p, const Vector3& unit_normal) const {
-  return p + unit_normal * impl_->epsilon_m;
 }
 
 double Visibility::scene_extent() const { return 2 * impl_->scene_size; }

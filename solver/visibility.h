@@ -29,7 +29,7 @@ class Visibility {
   // A point on a surface moved off it along the surface's normal by a small multiple of the float
   // resolution of the scene's size: a ray that leaves or reaches a surface at a grazing angle would
   // otherwise hit that surface itself within float precision. Use for every surface end point.
-  Point3 lift(const Point3& p, const Vector3& unit_normal) const;
+  Point3 lift(const Point3& p, const Vector3& unit_normal) const { return p + unit_normal * lift_m_; }
 
   // Index (into the occluder list) of the first triangle the open segment hits, or -1 if none.
   int first_hit(const Point3& from, const Point3& to) const;
@@ -48,6 +48,7 @@ class Visibility {
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
+  double lift_m_ = 0;  // lift()'s distance, Impl::epsilon_m (inline: the link rays lift two points each)
 };
 
 }  // namespace lambert
