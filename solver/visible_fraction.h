@@ -104,12 +104,16 @@ std::size_t weighted_visible_fractions(const Visibility& vis, std::size_t count,
     for (std::size_t l : open)
       for (int k = k_begin; k < round_end; ++k) {
         const auto [from, to] = endpoints(l, k);
-        const double w = weight(l, from, to);
-        if (!(w > 0)) continue;
         segments.push_back({from, to});
-        weights.push_back(w);
+        weights.push_back(weight(l, from, to));
         ray_link.push_back(l);
       }
+    // Rays of zero weight are dropped afterwards, not as they are made: a branch on the weight there
+    // waited for its division on every ray.
+    std::size_t kept = 0;
+    for (std::size_t r = 0; r < segments.size(); ++r)
+      if (weights[r] > 0) segments[kept] = segments[r], weights[kept] = weights[r], ray_link[kept++] = ray_link[r];
+    segments.resize(kept), weights.resize(kept), ray_link.resize(kept);
     visible.resize(segments.size());
     vis.visible(segments, visible);
     traced += segments.size();
