@@ -86,28 +86,40 @@ double weighted_visible_fraction(const Visibility& vis, Endpoints&& endpoints, W
 // coherent rays about twice as fast as one call per ray. endpoints(l, k) and weight(l, from, to) as
 // above for link l; fractions[l] receives the result, equal to weighted_visible_fraction's. Returns
 // the number of rays traced.
+//
+// Links with early_hidden[l] set (the span may be empty: none) first trace 4 rays alone and are closed
+// as hidden if all 4 are blocked; otherwise they go on as the others do. For links whose whole
+// unoccluded transfer is within the caller's error budget: a wrong verdict costs no more than that.
 template <class Endpoints, class Weight>
 std::size_t weighted_visible_fractions(const Visibility& vis, std::size_t count, Endpoints&& endpoints, Weight&& weight,
-                                std::span<double> fractions, int first_round = 4) {
+                                std::span<double> fractions, int first_round = 4,
+                                std::span<const char> early_hidden = {}) {
   thread_local std::vector<VisibilityTally> tallies;
   thread_local std::vector<std::size_t> open, still_open, ray_link;
+  thread_local std::vector<int> next_sample;
   thread_local std::vector<Segment> segments;
   thread_local std::vector<double> weights;
   thread_local std::vector<std::uint8_t> visible;
   tallies.assign(count, VisibilityTally{});
+  next_sample.assign(count, 0);
   open.resize(count);
   for (std::size_t l = 0; l < count; ++l) open[l] = l;
-  int k_begin = 0;
   std::size_t traced = 0;
-  for (int round_end : visibility_rounds(first_round)) {
+  const auto rounds = visibility_rounds(first_round);
+  const std::array<int, 4> round_ends = {4, rounds[0], rounds[1], rounds[2]};
+  for (int round = early_hidden.empty() ? 1 : 0; round < 4; ++round) {
+    const bool early = round == 0;
     segments.clear(), weights.clear(), ray_link.clear();
-    for (std::size_t l : open)
-      for (int k = k_begin; k < round_end; ++k) {
+    for (std::size_t l : open) {
+      if (early && !early_hidden[l]) continue;
+      for (int k = next_sample[l]; k < round_ends[round]; ++k) {
         const auto [from, to] = endpoints(l, k);
         segments.push_back({from, to});
         weights.push_back(weight(l, from, to));
         ray_link.push_back(l);
       }
+      next_sample[l] = std::max(next_sample[l], round_ends[round]);
+    }
     // Rays of zero weight are dropped afterwards, not as they are made: a branch on the weight there
     // waited for its division on every ray.
     std::size_t kept = 0;
@@ -119,10 +131,12 @@ std::size_t weighted_visible_fractions(const Visibility& vis, std::size_t count,
     traced += segments.size();
     for (std::size_t r = 0; r < segments.size(); ++r) tallies[ray_link[r]].add(weights[r], visible[r] != 0);
     still_open.clear();
-    for (std::size_t l : open)
-      if (!tallies[l].unanimous()) still_open.push_back(l);
+    for (std::size_t l : open) {
+      const VisibilityTally& t = tallies[l];
+      const bool closed = early ? early_hidden[l] && t.traced > 0 && t.visible == 0 : t.unanimous();
+      if (!closed) still_open.push_back(l);
+    }
     open.swap(still_open);
-    k_begin = round_end;
     if (open.empty()) break;
   }
   for (std::size_t l = 0; l < count; ++l) fractions[l] = tallies[l].fraction();

@@ -312,6 +312,32 @@ TEST(VisibilitySamples, FirstRoundIsTheCornersAndTheCentreAndRoundsAreStratified
   for (int k = 0; k < 4; ++k) EXPECT_LT(paired_sample(k), 4);                   // corners with corners
 }
 
+TEST(VisibilityRounds, EarlyLinksAreClosedAsHiddenByFourBlockedRaysOnly) {
+  // A plate at z = 0.5 over the unit square about the origin. Link 0's first four rays cross it, the
+  // rest pass beside it; link 1's rays all pass.
+  const auto plate = rectangle({-1, -1, 0.5}, {2, 0, 0}, {0, 2, 0});
+  const Visibility vis(plate);
+  auto endpoints = [](std::size_t l, int k) {
+    const double x = l == 0 && k < 4 ? 0.0 : 5.0;
+    return std::pair{Point3{x, 0.01 * k, 0}, Point3{x, 0.01 * k, 1}};
+  };
+  auto weight = [](std::size_t, const Point3&, const Point3&) { return 1.0; };
+  auto run = [&](std::vector<char> early, std::vector<double>& fraction) {
+    fraction.assign(2, -1);
+    return weighted_visible_fractions(vis, 2, endpoints, weight, fraction, 16, early);
+  };
+  std::vector<double> fraction;
+  // Not early: 16 rays disagree for link 0, so it takes all 64 (60 visible); link 1 stops at 16.
+  EXPECT_EQ(run({0, 0}, fraction), 64u + 16u);
+  EXPECT_DOUBLE_EQ(fraction[0], 60.0 / 64);
+  EXPECT_DOUBLE_EQ(fraction[1], 1.0);
+  // Early: link 0 is closed as hidden after its 4 blocked rays; link 1's 4 visible rays do not
+  // close it (an early verdict is only ever "hidden"), so it goes on to 16 as before.
+  EXPECT_EQ(run({1, 1}, fraction), 4u + 16u);
+  EXPECT_DOUBLE_EQ(fraction[0], 0.0);
+  EXPECT_DOUBLE_EQ(fraction[1], 1.0);
+}
+
 TEST(OccluderPlanes, AConvexRoomHasNoneAndEveryPairIsClear) {
   const std::vector<Triangle> room = test::box({0, 0, 0}, {6, 4, 3}, true);
   const OccluderPlanes planes(room);
