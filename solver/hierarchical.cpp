@@ -559,7 +559,12 @@ class Refiner {
       } else if (link.coeff[0] != kFactorPending) {
         transfer = element_B_[link.source] * (link.coeff[0] + link.coeff[1] + link.coeff[2]) / 3;
       } else {
-        transfer = 1e300;  // two leaves: the factor is not known yet
+        // Two leaves, whose factor is computed after the rays: twice the point factor at the
+        // receiver's centroid stands for it, for pairs whose bounding spheres are well apart.
+        const Element& R = h_.elements[link.receiver];
+        const Element& S = h_.elements[link.source];
+        const bool apart = distance(R.centre, S.centre) > 2 * (R.radius + S.radius);
+        transfer = apart ? 2 * element_B_[link.source] * point_triangle_factor(R.centre, R.normal, S.tri) : 1e300;
       }
       early[l] = transfer * area_weight(h_.elements[link.receiver]) <= epsilon_;
     }
