@@ -14,6 +14,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <set>
 #include <unordered_map>
@@ -398,8 +399,10 @@ const Hierarchy::RootSample& cluster_sample(const Hierarchy& h, const Cluster& C
   return h.ordered_roots[C.first_root + static_cast<int>(static_cast<long long>(pick) * C.root_count / kMaxVisibilitySamples)];
 }
 
-// The coefficient of a pending leaf-to-leaf link whose factor is computed once its rays find it visible.
-constexpr float kFactorPending = -1;
+// The coefficients of a pending leaf-to-leaf link whose factor is computed once its rays find it
+// visible (a NaN: no fit or factor is one).
+constexpr float kFactorPending = std::numeric_limits<float>::quiet_NaN();
+bool factor_pending(const Link& link) { return std::isnan(link.coeff[0]); }
 
 // Links found by the refiner. Those whose visibility needs rays wait in `pending` with their
 // unoccluded coefficients until Refiner::resolve() traces them together.
@@ -556,7 +559,7 @@ class Refiner {
         const Cluster& C = h_.clusters[link.source];
         for (int a = 0; a < 3; ++a) transfer += link.coeff[a] * C.projected[link.bin[a]];
         transfer *= cluster_B_[link.source];
-      } else if (link.coeff[0] != kFactorPending) {
+      } else if (!factor_pending(link)) {
         transfer = element_B_[link.source] * (link.coeff[0] + link.coeff[1] + link.coeff[2]) / 3;
       } else {
         // Two leaves, whose factor is computed after the rays: twice the point factor at the
@@ -591,7 +594,7 @@ class Refiner {
     for (std::size_t l = 0; l < out.pending.size(); ++l) {
       if (!(fraction[l] > 0)) continue;
       Link link = out.pending[l];
-      if (link.coeff[0] == kFactorPending) {  // two leaves (link_leaves): the mean factor, now
+      if (factor_pending(link)) {  // two leaves (link_leaves): the mean factor, now
         const Element& R = h_.elements[link.receiver];
         const double F = area_form_factor(R.tri, h_.elements[link.source].tri, near_field_) / R.area;
         if (!(F > 0)) continue;
