@@ -35,10 +35,7 @@ constexpr const char* kUsage =
     "                 [--false-color illuminance|luminance] [--white CD_M2]\n"
     "                                              a picture of the solution (lambert render --help)\n";
 
-int usage_error(const std::string& message) {
-  std::cerr << "lambert: " << message << "\n" << kUsage;
-  return 2;
-}
+int usage_error(const std::string& message) { return lambert::usage_error("lambert", message, kUsage); }
 
 // Decodes a scene file; prints errors and returns nullopt when it is invalid.
 std::optional<lambert::Scene> load_scene(const std::string& path) {

@@ -10,12 +10,17 @@
 
 namespace lambert {
 
+int usage_error(const std::string& program, const std::string& message, const char* usage) {
+  std::cerr << program << ": " << message << "\n" << usage;
+  return 2;
+}
+
 std::optional<SceneCommandArgs> parse_scene_command(const std::vector<std::string>& args,
                                                     const std::string& command, const char* usage,
                                                     bool& help) {
   help = false;
   auto fail = [&](const std::string& why) -> std::optional<SceneCommandArgs> {
-    std::cerr << "lambert " << command << ": " << why << "\n" << usage;
+    usage_error("lambert " + command, why, usage);
     return std::nullopt;
   };
   SceneCommandArgs out;

@@ -22,6 +22,10 @@ std::optional<SceneCommandArgs> parse_scene_command(const std::vector<std::strin
                                                     const std::string& command, const char* usage,
                                                     bool& help);
 
+// Prints "PROGRAM: message" and the usage text to stderr; returns 2, the exit code of bad usage.
+// PROGRAM is "lambert" or "lambert COMMAND".
+int usage_error(const std::string& program, const std::string& message, const char* usage);
+
 // Whole file as bytes; false if it cannot be read.
 bool read_text_file(const std::string& path, std::string& text);
 

@@ -34,10 +34,7 @@ constexpr const char* kRenderUsage =
     "  --white: the luminance shown as white (default: the brightest patch that does not emit).\n"
     "  --smooth: interpolate the patches' radiance between their vertices instead of drawing facets.\n";
 
-int render_usage_error(const std::string& message) {
-  std::cerr << "lambert render: " << message << "\n" << kRenderUsage;
-  return 2;
-}
+int render_usage_error(const std::string& message) { return usage_error("lambert render", message, kRenderUsage); }
 
 // The linear sRGB value of a spectral radiance (or of three rgb-mode channels).
 std::array<double, 3> linear_srgb(const std::vector<double>& L, const Scene& scene) {

@@ -18,6 +18,7 @@
 #include <variant>
 #include <vector>
 
+#include "server/cli_common.h"
 #include "server/http_server.h"
 #include "server/job_store.h"
 
@@ -39,10 +40,7 @@ constexpr const char* kServeUsage =
     "  --result-ttl-s S       keep finished jobs for S seconds, 0 for ever (default 604800)\n"
     "  --access-log           one line per request on stderr\n";
 
-int usage_error(const std::string& message) {
-  std::cerr << "lambert serve: " << message << "\n" << kServeUsage;
-  return 2;
-}
+int usage_error(const std::string& message) { return lambert::usage_error("lambert serve", message, kServeUsage); }
 
 template <typename T>
 std::optional<T> parse_number(const std::string& text, T lo, T hi) {
