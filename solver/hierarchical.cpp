@@ -46,6 +46,7 @@ constexpr int kRefineRounds = 3;
 constexpr double kPowerShare = 1;
 constexpr double kUnitPatches = 4;   // the oracle's area weight starts above this many patches
 constexpr double kWellSeparated = 1.5;  // cluster links need d ≥ 1.5 (r_source + r_receiver)
+constexpr int kTabledClusterSamples = 16;  // see Hierarchy::cluster_samples
 constexpr std::size_t kMaxBatch = 16;   // systems per gather pass (the GMRES batch size)
 constexpr int kMaxBalanceSweeps = 100;  // of the closure balance; the error usually halves per sweep
 
@@ -79,6 +80,7 @@ struct Cluster {
   int child[2] = {-1, -1};   // clusters; both −1 for a BVH leaf
   int root = -1;             // the root element of a BVH leaf
   int first_root = 0, root_count = 0;  // range in Hierarchy::root_order
+  int samples = -1;          // its first kTabledClusterSamples in Hierarchy::cluster_samples, or −1
 };
 
 struct Link {
@@ -118,6 +120,15 @@ class Hierarchy {
     Vector3 normal;
   };
   std::vector<RootSample> ordered_roots;
+  // A visibility sample of a cluster (cluster_sample): a point on one of its roots (not lifted) and the
+  // root's normal. The first kTabledClusterSamples of each cluster of more roots than that are kept
+  // together: drawn from ordered_roots, each ray of a cluster link missed the cache (a fifth of the
+  // link rays' set-up time in the city block), and the link rays use at most that many in most links.
+  struct ClusterSample {
+    Point3 point;
+    Vector3 normal;
+  };
+  std::vector<ClusterSample> cluster_samples;
   std::vector<Cluster> clusters;    // clusters[0] is the top
   std::vector<int> leaves;          // element of each unknown
   std::vector<Link> links;
@@ -393,10 +404,24 @@ std::array<double, 3> linear_fit(const std::array<std::array<double, 3>, P>& bet
   return a;
 }
 
-// The root drawn for visibility sample k (< 64) of a cluster: spread over its BVH range.
-const Hierarchy::RootSample& cluster_sample(const Hierarchy& h, const Cluster& C, int k) {
+// Visibility sample k (< 64) of a cluster: a stratified sample point of one of its roots, the roots
+// drawn spread over its BVH range.
+Hierarchy::ClusterSample cluster_sample(const Hierarchy& h, const Cluster& C, int k) {
+  if (C.samples >= 0 && k < kTabledClusterSamples) return h.cluster_samples[C.samples + k];
   const int pick = (37 * k + 11) % kMaxVisibilitySamples;
-  return h.ordered_roots[C.first_root + static_cast<int>(static_cast<long long>(pick) * C.root_count / kMaxVisibilitySamples)];
+  const Hierarchy::RootSample& root =
+      h.ordered_roots[C.first_root + static_cast<int>(static_cast<long long>(pick) * C.root_count / kMaxVisibilitySamples)];
+  return {visibility_sample(root.tri, k), root.normal};
+}
+
+// Fills Hierarchy::cluster_samples (see there) once the clusters and ordered_roots are built.
+void table_cluster_samples(Hierarchy& h) {
+  for (Cluster& C : h.clusters) {
+    if (C.root_count <= kTabledClusterSamples) continue;
+    const int first = static_cast<int>(h.cluster_samples.size());
+    for (int k = 0; k < kTabledClusterSamples; ++k) h.cluster_samples.push_back(cluster_sample(h, C, k));
+    C.samples = first;
+  }
 }
 
 // The coefficients of a pending leaf-to-leaf link whose factor is computed once its rays find it
@@ -579,9 +604,9 @@ class Refiner {
           const Element& R = h_.elements[link.receiver];
           const Point3 p = vis_.lift(visibility_sample(R.tri, k), R.normal);
           if (link.from_cluster) {
-            const Hierarchy::RootSample& S = cluster_sample(h_, h_.clusters[link.source], k);
+            const Hierarchy::ClusterSample S = cluster_sample(h_, h_.clusters[link.source], k);
             source_normal = S.normal;
-            return std::pair{p, vis_.lift(visibility_sample(S.tri, k), S.normal)};
+            return std::pair{p, vis_.lift(S.point, S.normal)};
           }
           const Element& S = h_.elements[link.source];
           source_normal = S.normal;
@@ -829,6 +854,7 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
   h.root_order = h.roots;
   if (!h.roots.empty()) build_clusters(h, 0, static_cast<int>(h.roots.size()));
   for (int root : h.root_order) h.ordered_roots.push_back({h.elements[root].tri, h.elements[root].normal});
+  table_cluster_samples(h);
   sol.patches = leaf_patches();
   sol.stats.patches = N;
   sol.stats.time_meshing_s = seconds_since(t0);
@@ -1181,9 +1207,9 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
                   const double v = weighted_visible_fraction(
                       vis,
                       [&](int j) {
-                        const Hierarchy::RootSample& S = cluster_sample(h, C, j);
+                        const Hierarchy::ClusterSample S = cluster_sample(h, C, j);
                         source_normal = S.normal;
-                        return std::pair{from, vis.lift(visibility_sample(S.tri, j), S.normal)};
+                        return std::pair{from, vis.lift(S.point, S.normal)};
                       },
                       [&](const Point3&, const Point3& qq) { return link_weight(p, n, qq, source_normal); });
                   for (int a = 0; a < 3; ++a) {
