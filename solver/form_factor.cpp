@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <tuple>
 #include <vector>
 
 #include "solver/cubature.h"
@@ -172,6 +173,14 @@ double area_form_factor(const Triangle& receiver, const Triangle& source, const 
   double sum = 0;
   for (int k = 0; k < part.count; ++k) sum += front_area_form_factor(part.pieces[k], source, options);
   return sum;
+}
+
+double exchange_area(const Triangle& a, const Triangle& b, const AreaFactorOptions& options) {
+  auto key = [](const Triangle& t) {
+    return std::tuple{t.bounding_radius(), t.area(), t.v[0].x, t.v[0].y, t.v[0].z, t.v[1].x, t.v[1].y, t.v[1].z,
+                      t.v[2].x, t.v[2].y, t.v[2].z};
+  };
+  return key(a) <= key(b) ? area_form_factor(a, b, options) : area_form_factor(b, a, options);
 }
 
 }  // namespace lambert

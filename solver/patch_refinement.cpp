@@ -186,8 +186,7 @@ std::vector<double> direct_irradiance_totals(const Scene& scene, const std::vect
         if (exitance[k] == 0 || emitters[k] == i || !any_in_front(a.triangle, a.normal, b.triangle) ||
             !any_in_front(b.triangle, b.normal, a.triangle))
           continue;
-        const double g = a.area_m2 <= b.area_m2 ? area_form_factor(a.triangle, b.triangle)
-                                                : area_form_factor(b.triangle, a.triangle);
+        const double g = exchange_area(a.triangle, b.triangle);
         if (g <= 0) continue;
         partners.push_back(emitters[k]);
         unoccluded.push_back(g / a.area_m2 * exitance[k]);

@@ -655,9 +655,7 @@ Solution solve_dense(const Scene& scene, const SolveControl& control, const std:
         for (std::size_t l = 0; l < partners.size(); ++l) {
           if (fraction[l] <= 0) continue;
           const Patch& b = sol.patches[partners[l]];
-          // Integrate over the smaller patch: its point-to-polygon factor varies least across it.
-          unoccluded[l] = a.area_m2 <= b.area_m2 ? area_form_factor(a.triangle, b.triangle)
-                                                 : area_form_factor(b.triangle, a.triangle);
+          unoccluded[l] = exchange_area(a.triangle, b.triangle);
         }
         // Links wholly visible without rays: no occluder plane can come between.
         for (std::size_t l = 0, r = 0; l < partners.size(); ++l) {
