@@ -501,7 +501,7 @@ class Refiner {
     const double separation = distance(R.centre, S.centre) / (R.radius + S.radius);
     // (The fixed rule's mean only where S's plane does not cut R: see cubature.h, front_part.)
     const bool smooth = separation > 4 && !front_part(R.tri, S.tri.v[0], S.tri.area_vector()).cut;
-    const double F = smooth ? mean : area_form_factor(R.tri, S.tri, near_field_) / R.area;
+    const double F = smooth ? mean : exchange_area(R.tri, S.tri, near_field_) / R.area;
     if (F <= 0) return;
     const double shift = F - (a[0] + a[1] + a[2]) / 3;  // the linear factor's mean is F exactly
     for (double& value : a) value += shift;
