@@ -51,7 +51,7 @@ double area_form_factor(const Triangle& receiver, const Triangle& source,
 // integrated over the triangle of smaller bounding radius (ties: smaller area, then the first by
 // vertex coordinates). The kernel is exact over the other triangle, and the rule's error grows with
 // the extent of the domain it samples: a strip 100 times longer than the common edge it shares with
-// a square errs by 6e-3 integrated over the strip and by 1e-6 over the square, at the same
+// a square errs by 4e-3 to 6e-3 integrated over the strip and by 1e-6 over the square, at the same
 // tolerance (form_factor_test, "ExchangeAreaIntegratesOverTheSmallerTriangle").
 double exchange_area(const Triangle& a, const Triangle& b, const AreaFactorOptions& options = {});
 

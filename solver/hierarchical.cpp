@@ -497,7 +497,8 @@ class Refiner {
       residual = std::max(residual, std::abs(f[q] - (a[0] * beta[q][0] + a[1] * beta[q][1] + a[2] * beta[q][2])));
     const double weight = area_weight(R);
     if (B * residual * weight > epsilon_) return split(r, s, out);
-    // Near pairs: the receiver average by adaptive cubature (exact kernel, log-singular near contact).
+    // Near pairs: the mean by adaptive cubature over the smaller of the two (exchange_area; exact
+    // kernel, log-singular near contact).
     const double separation = distance(R.centre, S.centre) / (R.radius + S.radius);
     // (The fixed rule's mean only where S's plane does not cut R: see cubature.h, front_part.)
     const bool smooth = separation > 4 && !front_part(R.tri, S.tri.v[0], S.tri.area_vector()).cut;
