@@ -176,11 +176,16 @@ double area_form_factor(const Triangle& receiver, const Triangle& source, const 
 }
 
 double exchange_area(const Triangle& a, const Triangle& b, const AreaFactorOptions& options) {
-  auto key = [](const Triangle& t) {
-    return std::tuple{t.bounding_radius(), t.area(), t.v[0].x, t.v[0].y, t.v[0].z, t.v[1].x, t.v[1].y, t.v[1].z,
-                      t.v[2].x, t.v[2].y, t.v[2].z};
+  auto radius2 = [](const Triangle& t) {  // the bounding radius, squared (the dense solver asks per pair)
+    const Point3 c = t.centroid();
+    return std::max({length_squared(t.v[0] - c), length_squared(t.v[1] - c), length_squared(t.v[2] - c)});
   };
-  return key(a) <= key(b) ? area_form_factor(a, b, options) : area_form_factor(b, a, options);
+  auto tie_key = [](const Triangle& t) {
+    return std::tuple{t.area(), t.v[0].x, t.v[0].y, t.v[0].z, t.v[1].x, t.v[1].y, t.v[1].z, t.v[2].x, t.v[2].y, t.v[2].z};
+  };
+  const double ra = radius2(a), rb = radius2(b);
+  const bool over_a = ra != rb ? ra < rb : tie_key(a) <= tie_key(b);
+  return over_a ? area_form_factor(a, b, options) : area_form_factor(b, a, options);
 }
 
 }  // namespace lambert
