@@ -431,8 +431,8 @@ void table_cluster_samples(Hierarchy& h) {
 constexpr float kFactorPending = std::numeric_limits<float>::quiet_NaN();
 bool factor_pending(const Link& link) { return std::isnan(link.coeff[0]); }
 
-// ∫_R F(p → S) dA_p of pairs of leaves whose factor took adaptive cubature, by the pair (lower element
-// index in the high half): see Refiner::leaf_exchange.
+// A_r F_rs = A_s F_sr of near pairs of leaves (exchange_area), keyed by the pair (the lower element
+// index in the high 32 bits): see Refiner::leaf_exchange.
 using ExchangeCache = tbb::concurrent_unordered_map<std::uint64_t, double>;
 
 // Links found by the refiner. Those whose visibility needs rays wait in `pending` with their
