@@ -79,6 +79,12 @@ struct Cluster {
   Point3 centre;
   double radius = 0;
   Bins projected{};          // Σ A (n·e_k)⁺ over its roots
+  // For bound_projected_area(): Σ A n over its roots, and a cone about `cone_axis` that holds their normals,
+  // of half-angle θ < 90° with sin θ = cone_sin (2 where the normals are not within a hemisphere's cone).
+  Vector3 area_vector{};
+  Vector3 cone_axis{};
+  double cone_sin = 2;
+  bool axis_normals = false;  // every root's normal is ± an axis: the bins are exact
   int child[2] = {-1, -1};   // clusters; both −1 for a BVH leaf
   int root = -1;             // the root element of a BVH leaf
   int first_root = 0, root_count = 0;  // range in Hierarchy::root_order
@@ -416,6 +422,71 @@ Hierarchy::ClusterSample cluster_sample(const Hierarchy& h, const Cluster& C, in
   return {visibility_sample(root.tri, k), root.normal};
 }
 
+// Σ_a |w_a| projected[bin_a] over the bins facing direction w: an upper bound of the area the cluster
+// shows in direction w, Σ A (n·w)⁺ over its roots, exact only where every normal lies in w's octant
+// or on an axis. A faceted sphere seen along a diagonal shows 1.7 times its disk in the bins.
+double binned_area(const Cluster& C, const Vector3& w) {
+  return std::abs(w.x) * C.projected[w.x > 0 ? 0 : 1] + std::abs(w.y) * C.projected[w.y > 0 ? 2 : 3] +
+         std::abs(w.z) * C.projected[w.z > 0 ? 4 : 5];
+}
+
+// Bounds of Σ A (n·w)⁺ over the roots of cluster c, added to [lower, upper]. A subtree whose normal
+// cone lies wholly in front of w's horizon adds its area vector · w, one wholly behind adds nothing,
+// and one with axis-aligned normals adds its bins, all exactly; only clusters whose normals straddle
+// the horizon are descended into, at most `budget` of them. Past the budget a cluster adds
+// (area vector · w)⁺ below and its bins above.
+void bound_projected_area(const Hierarchy& h, int c, const Vector3& w, int& budget, double& lower, double& upper) {
+  const Cluster& C = h.clusters[c];
+  double exact = -1;
+  if (C.axis_normals) {
+    exact = binned_area(C, w);
+  } else if (C.cone_sin <= 1 || C.root >= 0) {
+    const double along = dot(C.cone_axis, w);
+    if (along >= C.cone_sin || C.root >= 0) exact = std::max(0.0, dot(C.area_vector, w));
+    else if (along <= -C.cone_sin) exact = 0;
+  }
+  if (exact >= 0) {
+    lower += exact, upper += exact;
+  } else if (budget-- <= 0) {
+    lower += std::max(0.0, dot(C.area_vector, w)), upper += binned_area(C, w);
+  } else {
+    bound_projected_area(h, C.child[0], w, budget, lower, upper);
+    bound_projected_area(h, C.child[1], w, budget, lower, upper);
+  }
+}
+constexpr int kProjectionBudget = 256;  // clusters descended into per bound_projected_area
+
+// How a link to cluster c from direction w (unit, from the cluster) reads its projected power Φ: the
+// three bins facing w, weighted so that a cluster of uniform radiosity B sends B × `projected` (the
+// area it shows, within ± `uncertainty`) rather than the bins' upper bound. Where the radiosity is
+// not uniform, the bins still tell the sides of the cluster apart.
+struct ClusterView {
+  std::array<unsigned char, 3> bin{};
+  std::array<double, 3> weight{};
+  double projected = 0;  // 0: every root faces away from w
+  double uncertainty = 0;
+};
+ClusterView cluster_view(const Hierarchy& h, int c, const Vector3& w) {
+  ClusterView view;
+  const double wa[3] = {w.x, w.y, w.z};
+  for (int a = 0; a < 3; ++a) view.bin[a] = static_cast<unsigned char>(wa[a] > 0 ? 2 * a : 2 * a + 1);
+  const Cluster& C = h.clusters[c];
+  const double binned = binned_area(C, w);
+  if (binned <= 0) return view;
+  if (C.axis_normals) {  // the bins are exact (the common case in buildings)
+    view.projected = binned;
+    for (int a = 0; a < 3; ++a) view.weight[a] = std::abs(wa[a]);
+    return view;
+  }
+  double lower = 0, upper = 0;
+  int budget = kProjectionBudget;
+  bound_projected_area(h, c, w, budget, lower, upper);
+  view.projected = 0.5 * (lower + upper);
+  view.uncertainty = 0.5 * (upper - lower);
+  for (int a = 0; a < 3; ++a) view.weight[a] = std::abs(wa[a]) * view.projected / binned;
+  return view;
+}
+
 // Fills Hierarchy::cluster_samples (see there) once the clusters and ordered_roots are built.
 void table_cluster_samples(Hierarchy& h) {
   for (Cluster& C : h.clusters) {
@@ -537,17 +608,12 @@ class Refiner {
     const double d_min = d - C.radius - R.radius;
     if (d >= kWellSeparated * scale && d_min > 0) {
       const Vector3 w = d_vec / d;
-      const double wa[3] = {w.x, w.y, w.z};
-      double projected = 0;
-      std::array<unsigned char, 3> bin{};
-      for (int a = 0; a < 3; ++a) {
-        bin[a] = static_cast<unsigned char>(wa[a] > 0 ? 2 * a : 2 * a + 1);
-        projected += std::abs(wa[a]) * C.projected[bin[a]];
-      }
-      if (projected <= 0) return;  // every element of the cluster faces away from the receiver
+      const ClusterView view = cluster_view(h_, c, w);
+      if (view.projected <= 0) return;  // every element of the cluster faces away from the receiver
       // The transfer per unit radiosity is at most projected/(π d_min²) (cos θ_r ≤ 1, distance ≥ d_min);
-      // the one-point estimate errs by about the relative size (r_C + r_R)/d of the pair.
-      const double error_per_B = projected / (kPi * d_min * d_min) * scale / d * area_weight(R);
+      // the one-point estimate errs by about the relative size (r_C + r_R)/d of the pair, and the
+      // projected area by its uncertainty.
+      const double error_per_B = (view.projected * scale / d + view.uncertainty) / (kPi * d_min * d_min) * area_weight(R);
       if (cluster_B_[c] * error_per_B <= epsilon_) {
         const double cos_r = std::max(0.0, -dot(R.normal, w));
         if (cos_r <= 0) return;
@@ -555,8 +621,8 @@ class Refiner {
         link.receiver = r;
         link.source = c;
         link.from_cluster = true;
-        link.bin = bin;
-        for (int a = 0; a < 3; ++a) link.coeff[a] = static_cast<float>(std::abs(wa[a]) * cos_r / (kPi * d * d));
+        link.bin = view.bin;
+        for (int a = 0; a < 3; ++a) link.coeff[a] = static_cast<float>(view.weight[a] * cos_r / (kPi * d * d));
         link.error_per_B = static_cast<float>(error_per_B);
         out.pending.push_back(link);
         return;
@@ -717,12 +783,16 @@ int build_clusters(Hierarchy& h, int first, int count) {
   h.clusters.emplace_back();
   Bounds3 box, centroids;
   Bins projected{};
+  Vector3 area_vector{};
+  double area = 0;
   for (int k = first; k < first + count; ++k) {
     const Element& e = h.elements[h.root_order[k]];
     for (const Point3& p : e.tri.v) box.add(p);
     centroids.add(e.centre);
     const Bins b = projected_bins(e.normal, e.area);
     for (int q = 0; q < 6; ++q) projected[q] += b[q];
+    area_vector = area_vector + e.area * e.normal;
+    area += e.area;
   }
   {
     Cluster& c = h.clusters[index];
@@ -730,8 +800,22 @@ int build_clusters(Hierarchy& h, int first, int count) {
     c.centre = box.center();
     c.radius = 0.5 * length(box.diagonal());
     c.projected = projected;
+    c.area_vector = area_vector;
     c.first_root = first;
     c.root_count = count;
+    // The normal cone about the mean normal; none where the normals nearly cancel (a closed object).
+    if (length(area_vector) > 1e-6 * area) {
+      c.cone_axis = normalize(area_vector);
+      double min_cos = 1;
+      for (int k = first; k < first + count; ++k) min_cos = std::min(min_cos, dot(h.elements[h.root_order[k]].normal, c.cone_axis));
+      if (min_cos > 0) c.cone_sin = std::sqrt(std::max(0.0, 1 - min_cos * min_cos));
+    }
+    c.axis_normals = true;
+    for (int k = first; k < first + count && c.axis_normals; ++k) {
+      const Vector3& n = h.elements[h.root_order[k]].normal;
+      constexpr double kOffAxis = 1e-9;  // the bins then err by less than this, relative
+      c.axis_normals = (std::abs(n.x) > kOffAxis) + (std::abs(n.y) > kOffAxis) + (std::abs(n.z) > kOffAxis) == 1;
+    }
   }
   if (count == 1) {
     h.clusters[index].root = h.root_order[first];
@@ -1221,13 +1305,11 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
             bool accepted = false;
             if (d >= 2 * C.radius && d_min > 0) {
               const Vector3 w = d_vec / d;
-              const double wa[3] = {w.x, w.y, w.z};
-              double projected = 0;
-              for (int a = 0; a < 3; ++a) projected += std::abs(wa[a]) * C.projected[wa[a] > 0 ? 2 * a : 2 * a + 1];
-              if (cluster_B[c] * projected / (kPi * d_min * d_min) <= e_tolerance) {
+              const ClusterView view = cluster_view(h, c, w);
+              if (cluster_B[c] * (view.projected + view.uncertainty) / (kPi * d_min * d_min) <= e_tolerance) {
                 accepted = true;
                 const double cos_p = std::max(0.0, -dot(n, w));
-                if (cos_p > 0 && projected > 0) {
+                if (cos_p > 0 && view.projected > 0) {
                   Vector3 source_normal;
                   const double v = weighted_visible_fraction(
                       vis,
@@ -1238,9 +1320,8 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
                       },
                       [&](const Point3&, const Point3& qq) { return link_weight(p, n, qq, source_normal); });
                   for (int a = 0; a < 3; ++a) {
-                    const int bin = wa[a] > 0 ? 2 * a : 2 * a + 1;
-                    const double coeff = std::abs(wa[a]) * cos_p * v / (kPi * d * d);
-                    for (std::size_t kk = 0; kk < K; ++kk) e[kk] += coeff * values.Phi[(c * 6 + bin) * K + kk];
+                    const double coeff = view.weight[a] * cos_p * v / (kPi * d * d);
+                    for (std::size_t kk = 0; kk < K; ++kk) e[kk] += coeff * values.Phi[(c * 6 + view.bin[a]) * K + kk];
                   }
                 }
               }

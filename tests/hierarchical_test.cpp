@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include "solver/form_factor.h"
 #include "tests/scene_builder.h"
 
 namespace lambert {
@@ -175,6 +176,48 @@ TEST(Hierarchical, LinksGrowAboutLinearlyWithTriangles) {
   std::cout << "patches " << p4 << " -> " << p8 << ", links " << l4 << " -> " << l8 << "\n";
   EXPECT_GT(patch_ratio, 3.5);
   EXPECT_LT(ratio, 1.6 * patch_ratio);  // quadratic growth would be patch_ratio²
+}
+
+TEST(Hierarchical, FacetedClusterSendsTheAreaItShows) {
+  // A small black plate far from a convex faceted emitter (M = 1), along a diagonal, facing it: the
+  // plate gathers from the emitter's clusters, whose triangles lie in many planes. The exact mean
+  // irradiance is Σ over the facets of A_plate F(plate → facet) (a convex emitter hides nothing of
+  // itself; facets facing away give 0), computed pair by pair. Six projected-area bins alone overstate
+  // what a faceted sphere or a tilted cube shows along a diagonal.
+  const Point3 centre{0, 0, 0};
+  auto rotated_cube = [&] {
+    const double a = 0.5, b = 0.3;  // about z, then about x
+    std::vector<Triangle> cube = test::box({-0.5, -0.5, -0.5}, {0.5, 0.5, 0.5}, false);
+    for (Triangle& t : cube)
+      for (Point3& p : t.v) {
+        const double x = std::cos(a) * p.x - std::sin(a) * p.y, y = std::sin(a) * p.x + std::cos(a) * p.y;
+        p = {x, std::cos(b) * y - std::sin(b) * p.z, std::sin(b) * y + std::cos(b) * p.z};
+      }
+    return cube;
+  };
+  for (const auto& [name, emitter] : {std::pair{"icosphere", test::icosphere(centre, 0.5, 2)}, std::pair{"tilted cube", rotated_cube()}}) {
+    for (const Triangle& t : emitter) ASSERT_GT(dot(t.normal(), t.centroid() - centre), 0) << name << ": facets face out";
+    const Vector3 w = normalize(Vector3{1, 1, 1});
+    const Point3 at = centre + 20.0 * w;
+    const Vector3 u = normalize(cross(w, Vector3{0, 0, 1})), v = cross(u, w);  // (u, v, −w): faces the emitter
+    const std::vector<Triangle> plate = rectangle(at - 0.1 * u - 0.1 * v, 0.2 * u, 0.2 * v);
+    ASSERT_LT(dot(plate[0].normal(), w), -0.999);
+    SceneBuilder b;
+    const int black = b.material("black", 0.0);
+    b.surface("emitter", black, emitter, 1.0);
+    b.surface("plate", black, plate);
+    b.max_patch_area(1.0);  // the facets are the patches
+    const Solution sol = solve_with(b.scene(), SolverMethod::Hierarchical);
+    double exact = 0, plate_area = 0;
+    for (const Triangle& p : plate) {
+      plate_area += p.area();
+      for (const Triangle& f : emitter) exact += exchange_area(p, f);
+    }
+    exact /= plate_area;
+    // A cluster link's one-point estimate may err by (r_C + r_R)/d of its transfer (the oracle's bound,
+    // 5 % here); measured: 0.12 % for the sphere, 0.66 % for the cube. With the bins alone: +73 % and +57 %.
+    EXPECT_NEAR(surface_mean(sol, 1, sol.irradiance), exact, 1e-2 * exact) << name;
+  }
 }
 
 TEST(Hierarchical, GreySceneSolvesOneSystem) {

@@ -1,6 +1,8 @@
 // Builds Scenes in code for solver tests (independent of the JSON codec).
 #pragma once
 
+#include <array>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -72,6 +74,32 @@ inline std::vector<Triangle> box(const Point3& lo, const Point3& hi, bool inward
   for_each_box_face(lo, hi, [&](const Point3& o, const Vector3& u, const Vector3& v) {
     for (const Triangle& t : inward ? rectangle(o, u, v) : rectangle(o, v, u)) out.push_back(t);
   });
+  return out;
+}
+
+// A sphere of radius r about c as an icosahedron whose faces are split 1:4 `level` times, the new
+// vertices pushed out to the sphere (20 × 4^level triangles), normals pointing outward: a faceted
+// object whose triangles lie in as many planes as there are triangles.
+inline std::vector<Triangle> icosphere(const Point3& c, double r, int level) {
+  const double t = (1 + std::sqrt(5.0)) / 2;
+  std::vector<Vector3> v = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
+                            {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
+  for (Vector3& p : v) p = normalize(p);
+  std::vector<std::array<Vector3, 3>> faces;
+  for (const auto& [a, b, d] : std::vector<std::array<int, 3>>{
+           {0, 11, 5}, {0, 5, 1}, {0, 1, 7}, {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
+           {3, 9, 4}, {3, 4, 2}, {3, 2, 6}, {3, 6, 8}, {3, 8, 9}, {4, 9, 5}, {2, 4, 11}, {6, 2, 10}, {8, 6, 7}, {9, 8, 1}})
+    faces.push_back({v[a], v[b], v[d]});
+  for (int l = 0; l < level; ++l) {
+    std::vector<std::array<Vector3, 3>> finer;
+    for (const auto& [a, b, d] : faces) {
+      const Vector3 ab = normalize(a + b), bd = normalize(b + d), da = normalize(d + a);
+      finer.insert(finer.end(), {{a, ab, da}, {b, bd, ab}, {d, da, bd}, {ab, bd, da}});
+    }
+    faces.swap(finer);
+  }
+  std::vector<Triangle> out;
+  for (const auto& [a, b, d] : faces) out.push_back(Triangle{{c + r * a, c + r * b, c + r * d}});
   return out;
 }
 
