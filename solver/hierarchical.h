@@ -10,12 +10,20 @@
 // then split 1:4 down to meshing.max_patch_area; the leaves are the output patches. Clusters: a
 // bounding-volume hierarchy over the roots.
 //
-// Links gather into elements only. An element→element link carries the exact point-to-polygon kernel
+// Links gather into elements, and into clusters whose roots' normals all face the source (see
+// below). An element→element link carries the exact point-to-polygon kernel
 // averaged over the receiver (adaptive cubature for near pairs) times a kernel-weighted ray-traced
 // visible fraction (16 rays, 64 where they disagree; none where the shaft between two elements that
 // are not both leaves is clear). A cluster→element link carries the cluster's radiant intensity I(ω) = Σ_k (ω·e_k)⁺ Φ_k / π, with Φ_k = Σ_j B_j A_j (n_j·e_k)⁺ the cluster's
-// radiosity-weighted projected area on the six axis directions (exact for axis-aligned elements), over
+// radiosity-weighted projected area on the six axis directions, scaled so that a cluster of uniform
+// radiosity sends exactly the area it shows, Σ_j A_j (n_j·ω)⁺ (found through the clusters' normal
+// cones; the bins alone overstate it up to √3 times wherever normals are not in ω's octant), over
 // the squared distance, times a visible fraction from rays to points of the cluster's triangles.
+// A link into a cluster (receivers clustered as well as sources, as clustering algorithms do) adds
+// Ψ u to the cluster's vector irradiance V, Ψ
+// being the irradiance on a surface facing the source in direction u; it is made only where every
+// root's normal n lies in front of u, so that each root below receives exactly n·V. Without them
+// every input triangle of a faceted object gathered the whole scene through links of its own.
 //
 // Element links are linear over the receiver: the point kernel at 10 receiver points is fitted by a
 // linear function (least squares, shifted so that its mean is the exact receiver average), and
@@ -27,7 +35,8 @@
 // radiosity) × max(1, A_receiver / (4 patch areas)) ≤ ε = solver.accuracy × (mean radiosity);
 // otherwise the larger side is split and the children are linked. The element link's error bound is
 // the residual of the linear fit plus half the factor of a partly occluded link; the cluster link's is
-// its whole transfer (distance shortened by both bounding radii) times the pair's relative size. Up
+// its whole transfer (distance shortened by both bounding radii) times the pair's relative size, and a
+// link into a cluster's the same, needing the pair well separated (2.5 × the radii's sum). Up
 // to three refine–solve rounds: the first with the first-bounce radiosity plus an ambient estimate,
 // then with the solved one.
 //
