@@ -783,8 +783,8 @@ class Refiner {
     const double B = from_cluster ? cluster_B_[s] : element_B_[s];
     const double error_per_B =
         (view.projected * scale / d + view.uncertainty) / (kPi * d_min * d_min) * std::max(1.0, R.area / unit_area_);
-    if (B * error_per_B > epsilon_) return split();
     if (alpha + theta > kPi / 2) return split_receiver();
+    if (B * error_per_B > epsilon_) return split();
     ClusterLink link;
     link.receiver = rc;
     link.source = s;
