@@ -607,6 +607,25 @@ struct LinkBatch {
   std::vector<ClusterLink> cluster_links, cluster_pending;
 };
 
+// The links that the threads found (one member of their batches), in one vector sorted by receiver,
+// then source. Each thread's part is freed as soon as it is copied: the peak is one copy of the links
+// and one part, not two copies.
+template <class L>
+std::vector<L> take_sorted(tbb::enumerable_thread_specific<LinkBatch>& found, std::vector<L> LinkBatch::*part) {
+  std::size_t total = 0;
+  for (LinkBatch& batch : found) total += (batch.*part).size();
+  std::vector<L> all;
+  all.reserve(total);
+  for (LinkBatch& batch : found) {
+    all.insert(all.end(), (batch.*part).begin(), (batch.*part).end());
+    std::vector<L>().swap(batch.*part);
+  }
+  tbb::parallel_sort(all.begin(), all.end(), [](const L& a, const L& b) {
+    return a.receiver != b.receiver ? a.receiver < b.receiver : a.source < b.source;
+  });
+  return all;
+}
+
 // The refinement of one (receiver element, source) pair into links, with the BF oracle.
 class Refiner {
  public:
@@ -1378,21 +1397,15 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
         time_links += seconds_since(t1);
         break;
       }
-      std::vector<Link> all;
-      for (auto& part : found) all.insert(all.end(), part.links.begin(), part.links.end());
-      tbb::parallel_sort(all.begin(), all.end(), [](const Link& a, const Link& b) {
-        return a.receiver != b.receiver ? a.receiver < b.receiver : a.source < b.source;
-      });
-      h.links = std::move(all);
+      // The previous round's links (read by the rechecks above) go first: with them, the threads'
+      // parts and the sorted copy, the links were held three times over.
+      h.links = {};
+      h.cluster_links = {};
+      h.links = take_sorted(found, &LinkBatch::links);
       h.link_start.assign(h.elements.size() + 1, 0);
       for (const Link& l : h.links) ++h.link_start[l.receiver + 1];
       for (std::size_t e = 0; e < h.elements.size(); ++e) h.link_start[e + 1] += h.link_start[e];
-      std::vector<ClusterLink> into_clusters;
-      for (auto& part : found) into_clusters.insert(into_clusters.end(), part.cluster_links.begin(), part.cluster_links.end());
-      tbb::parallel_sort(into_clusters.begin(), into_clusters.end(), [](const ClusterLink& a, const ClusterLink& b) {
-        return a.receiver != b.receiver ? a.receiver < b.receiver : a.source < b.source;
-      });
-      h.cluster_links = std::move(into_clusters);
+      h.cluster_links = take_sorted(found, &LinkBatch::cluster_links);
       h.cluster_link_start.assign(h.clusters.size() + 1, 0);
       for (const ClusterLink& l : h.cluster_links) ++h.cluster_link_start[l.receiver + 1];
       for (std::size_t c = 0; c < h.clusters.size(); ++c) h.cluster_link_start[c + 1] += h.cluster_link_start[c];
