@@ -11,8 +11,7 @@
 // bounding-volume hierarchy over the roots.
 //
 // Links gather into elements, and into clusters whose roots' normals all face the source (see
-// below). An element→element link carries the exact point-to-polygon kernel
-// averaged over the receiver (adaptive cubature for near pairs) times a kernel-weighted ray-traced
+// below). An element→element link carries the exact point-to-polygon kernel averaged over the receiver (adaptive cubature for near pairs) times a kernel-weighted ray-traced
 // visible fraction (16 rays, 64 where they disagree; none where the shaft between two elements that
 // are not both leaves is clear). A cluster→element link carries the cluster's radiant intensity I(ω) = Σ_k (ω·e_k)⁺ Φ_k / π, with Φ_k = Σ_j B_j A_j (n_j·e_k)⁺ the cluster's
 // radiosity-weighted projected area on the six axis directions, scaled so that a cluster of uniform
@@ -20,10 +19,10 @@
 // cones; the bins alone overstate it up to √3 times wherever normals are not in ω's octant), over
 // the squared distance, times a visible fraction from rays to points of the cluster's triangles.
 // A link into a cluster (receivers clustered as well as sources, as clustering algorithms do) adds
-// Ψ u to the cluster's vector irradiance V, Ψ
-// being the irradiance on a surface facing the source in direction u; it is made only where every
-// root's normal n lies in front of u, so that each root below receives exactly n·V. Without them
-// every input triangle of a faceted object gathered the whole scene through links of its own.
+// Ψ u to the cluster's vector irradiance V, Ψ being the irradiance on a surface facing the source in
+// direction u; it is made only where every root's normal n lies in front of u, so that n·V is each
+// root's Σ Ψ (n·u)⁺ with the clamp never acting. Without them every input triangle of a faceted
+// object gathered the whole scene through links of its own.
 //
 // Element links are linear over the receiver: the point kernel at 10 receiver points is fitted by a
 // linear function (least squares, shifted so that its mean is the exact receiver average), and
