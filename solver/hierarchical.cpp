@@ -13,6 +13,7 @@
 #include <tbb/parallel_sort.h>
 
 #include <algorithm>
+#include <stdexcept>
 #include <array>
 #include <chrono>
 #include <cmath>
@@ -279,6 +280,7 @@ class Hierarchy {
   // The irradiance that links into clusters give each root, K systems ([slot][k]): the vector
   // irradiance V = Σ Ψ toward of a cluster's links and its ancestors', on the root's normal.
   void cluster_field(const Values& v, std::vector<double>& root_E) const {
+    if (v.K > kMaxBatch) throw std::logic_error("cluster_field: more systems than one gather pass holds");
     root_E.assign(roots.size() * v.K, 0.0);
     if (!cluster_links.empty()) field_down(0, {}, false, v, root_E.data());
   }
