@@ -283,6 +283,28 @@ TEST(Hierarchical, LinksIntoAFacetedClusterMatchThePairwiseAnswer) {
   EXPECT_LT(std::abs(sol.stats.relative_imbalance), 1e-9);
 }
 
+TEST(Hierarchical, LitRoomWithFacetedSpheresAgreesWithDenseSolver) {
+  // The lit room of tools/sphere_room.py, smaller: two grey 320-facet spheres under a 1 m² panel,
+  // solved by both methods on the same facets. The spheres gather through links into clusters and
+  // send through cluster links; the dense solver's factors are exact pair by pair. Measured: room
+  // −0.09 %, panel −0.76 %, spheres −0.24 % and −0.31 %. With the clusters' six bins alone and no
+  // links into clusters the panel read −4.2 %.
+  SceneBuilder b;
+  const int grey = b.material("grey", 0.5);
+  const int black = b.material("black", 0.0);
+  b.surface("room", grey, box({0, 0, 0}, {4, 3, 3}, true));
+  b.surface("panel", black, rectangle({1.5, 1, 2.999}, {0, 1, 0}, {1, 0, 0}), 100.0);
+  b.surface("sphere 1", grey, test::icosphere({1.2, 1.5, 1.2}, 0.5, 2));
+  b.surface("sphere 2", grey, test::icosphere({2.9, 1.4, 1.4}, 0.45, 2));
+  b.max_patch_area(0.1);
+  const Solution dense = solve_with(b.scene(), SolverMethod::Dense);
+  const Solution hier = solve_with(b.scene(), SolverMethod::Hierarchical);
+  for (int s = 0; s < 4; ++s) {
+    const double d = surface_mean(dense, s, dense.irradiance), h = surface_mean(hier, s, hier.irradiance);
+    EXPECT_NEAR(h, d, 1.5e-2 * d) << "surface " << s;
+  }
+}
+
 TEST(Hierarchical, GreySceneSolvesOneSystem) {
   std::vector<double> nm(81);
   for (int k = 0; k < 81; ++k) nm[k] = 380 + 5 * k;
