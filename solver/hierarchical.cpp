@@ -647,7 +647,15 @@ class Refiner {
   // δE over a receiver of area A counts δE × max(1, A / unit_area). Coarse receivers (many patches)
   // may err more per unit area, since their links are pushed down to children that also gather
   // their own finer links; this keeps the link count near-linear.
-  double area_weight(const Element& R) const { return std::max(1.0, R.area / unit_area_); }
+  double area_weight(double receiver_area) const { return std::max(1.0, receiver_area / unit_area_); }
+
+  // The error bound per unit source radiosity of a one-point link across distance d between bounding
+  // spheres whose radii sum to `scale` (d_min = d − scale): the transfer is at most
+  // projected/(π d_min²) (cos θ ≤ 1, distance ≥ d_min); the one-point estimate errs by about the
+  // pair's relative size scale/d of it, and the projected area by its uncertainty.
+  double one_point_error(const ClusterView& view, double scale, double d, double d_min, double receiver_area) const {
+    return (view.projected * scale / d + view.uncertainty) / (kPi * d_min * d_min) * area_weight(receiver_area);
+  }
 
   void refine_to_element(int r, int s, LinkBatch& out) const {
     const Element& R = h_.elements[r];
@@ -682,7 +690,7 @@ class Refiner {
     double residual = 0;
     for (int q = 0; q < kPoints; ++q)
       residual = std::max(residual, std::abs(f[q] - (a[0] * beta[q][0] + a[1] * beta[q][1] + a[2] * beta[q][2])));
-    const double weight = area_weight(R);
+    const double weight = area_weight(R.area);
     if (B * residual * weight > epsilon_) return split(r, s, out);
     // Near pairs: the mean by adaptive cubature over the smaller of the two (exchange_area; exact
     // kernel, log-singular near contact).
@@ -726,10 +734,7 @@ class Refiner {
       const Vector3 w = d_vec / d;
       const ClusterView view = cluster_view(h_, c, w);
       if (view.projected <= 0) return;  // every element of the cluster faces away from the receiver
-      // The transfer per unit radiosity is at most projected/(π d_min²) (cos θ_r ≤ 1, distance ≥ d_min);
-      // the one-point estimate errs by about the relative size (r_C + r_R)/d of the pair, and the
-      // projected area by its uncertainty.
-      const double error_per_B = (view.projected * scale / d + view.uncertainty) / (kPi * d_min * d_min) * area_weight(R);
+      const double error_per_B = one_point_error(view, scale, d, d_min, R.area);
       if (cluster_B_[c] * error_per_B <= epsilon_) {
         const double cos_r = std::max(0.0, -dot(R.normal, w));
         if (cos_r <= 0) return;
@@ -802,8 +807,7 @@ class Refiner {
     }
     if (view.projected <= 0) return;  // the source faces away from the receivers
     const double B = from_cluster ? cluster_B_[s] : element_B_[s];
-    const double error_per_B =
-        (view.projected * scale / d + view.uncertainty) / (kPi * d_min * d_min) * std::max(1.0, R.area / unit_area_);
+    const double error_per_B = one_point_error(view, scale, d, d_min, R.area);
     if (alpha + theta > kPi / 2) return split_receiver();
     if (B * error_per_B > epsilon_) return split();
     ClusterLink link;
@@ -854,7 +858,7 @@ class Refiner {
         const bool apart = distance(R.centre, S.centre) > 2 * (R.radius + S.radius);
         transfer = apart ? 2 * element_B_[link.source] * point_triangle_factor(R.centre, R.normal, S.tri) : 1e300;
       }
-      early[l] = transfer * area_weight(h_.elements[link.receiver]) <= epsilon_;
+      early[l] = transfer * area_weight(h_.elements[link.receiver].area) <= epsilon_;
     }
     Vector3 source_normal;  // of the sample just drawn (weight() follows endpoints() for each ray)
     weighted_visible_fractions(
