@@ -73,13 +73,14 @@ int solve(const std::vector<std::string>& args) {
   try {
     const lambert::Solution solution = lambert::solve(*scene, control);
     const lambert::Report report = lambert::make_report(*scene, solution);
-    const std::string json = lambert::encode_result(*scene, solution, report);
     if (output_path.empty()) {
-      std::cout << json << "\n";
+      lambert::write_result(std::cout, *scene, solution, report);
+      std::cout << "\n";
       std::cerr << lambert::summarize(*scene, solution, report);
     } else {
       std::ofstream out(output_path, std::ios::binary);
-      out << json << "\n";
+      lambert::write_result(out, *scene, solution, report);
+      out << "\n";
       if (!out) {
         std::cerr << "lambert: cannot write " << output_path << "\n";
         return 1;

@@ -3,6 +3,7 @@
 #include "server/result_codec.h"
 
 #include <cstdio>
+#include <sstream>
 #include <nlohmann/json.hpp>
 
 #include "solver/rgb_model.h"
@@ -27,9 +28,42 @@ json array_json(const std::array<double, K>& v) {
   return a;
 }
 
+// One element of "patches". Patches are written one at a time (write_result): held as a document,
+// they took about 5 KB each, 4.8 GB at a million patches, on top of the text.
+json patch_json(const Scene& scene, const Solution& sol, const Report& report, std::size_t i) {
+  const std::size_t W = sol.wavelengths();
+  const bool spectral = scene.output.spectral;
+  const Patch& p = sol.patches[i];
+  const PatchPhotometry& ph = report.patches[i];
+  json j;
+  j["id"] = i;
+  j["surface"] = scene.surfaces[p.surface].name;
+  j["vertices"] = json::array({point_json(p.triangle.v[0], scene.unit_m), point_json(p.triangle.v[1], scene.unit_m),
+                               point_json(p.triangle.v[2], scene.unit_m)});
+  j["area"] = p.area_m2;
+  j["normal"] = json::array({p.normal.x, p.normal.y, p.normal.z});
+  if (spectral) {
+    j["radiosity"] = spectrum_json(&sol.radiosity[i * W], W);
+    j["irradiance"] = spectrum_json(&sol.irradiance[i * W], W);
+    j["radiance"] = spectrum_json(&sol.radiosity[i * W], W, 1 / kPi);
+  }
+  j["illuminance_lx"] = ph.illuminance_lx;
+  j["luminance_cd_m2"] = ph.luminance_cd_m2;
+  j["xyz"] = json::array({ph.xyz.X, ph.xyz.Y, ph.xyz.Z});
+  j["xy"] = array_json(ph.xy);
+  j["rgb_ebu"] = array_json(ph.rgb_ebu);
+  j["srgb"] = array_json(ph.srgb);
+  j["srgb_encoded"] = array_json(ph.srgb_encoded);
+  if (ph.melanopic) {
+    j["melanopic_irradiance_W_m2"] = ph.melanopic->irradiance_W_m2;
+    j["melanopic_edi_lx"] = ph.melanopic->edi_lx;
+  }
+  return j;
+}
+
 }  // namespace
 
-std::string encode_result(const Scene& scene, const Solution& sol, const Report& report, int indent) {
+void write_result(std::ostream& os, const Scene& scene, const Solution& sol, const Report& report) {
   const std::size_t W = sol.wavelengths();
   const bool spectral = scene.output.spectral;
   json out;
@@ -47,36 +81,7 @@ std::string encode_result(const Scene& scene, const Solution& sol, const Report&
     out["wavelengths_nm"] = sol.grid.nm;
   }
 
-  json patches = json::array();
-  for (std::size_t i = 0; i < sol.patches.size(); ++i) {
-    const Patch& p = sol.patches[i];
-    const PatchPhotometry& ph = report.patches[i];
-    json j;
-    j["id"] = i;
-    j["surface"] = scene.surfaces[p.surface].name;
-    j["vertices"] = json::array({point_json(p.triangle.v[0], scene.unit_m), point_json(p.triangle.v[1], scene.unit_m),
-                                 point_json(p.triangle.v[2], scene.unit_m)});
-    j["area"] = p.area_m2;
-    j["normal"] = json::array({p.normal.x, p.normal.y, p.normal.z});
-    if (spectral) {
-      j["radiosity"] = spectrum_json(&sol.radiosity[i * W], W);
-      j["irradiance"] = spectrum_json(&sol.irradiance[i * W], W);
-      j["radiance"] = spectrum_json(&sol.radiosity[i * W], W, 1 / kPi);
-    }
-    j["illuminance_lx"] = ph.illuminance_lx;
-    j["luminance_cd_m2"] = ph.luminance_cd_m2;
-    j["xyz"] = json::array({ph.xyz.X, ph.xyz.Y, ph.xyz.Z});
-    j["xy"] = array_json(ph.xy);
-    j["rgb_ebu"] = array_json(ph.rgb_ebu);
-    j["srgb"] = array_json(ph.srgb);
-    j["srgb_encoded"] = array_json(ph.srgb_encoded);
-    if (ph.melanopic) {
-      j["melanopic_irradiance_W_m2"] = ph.melanopic->irradiance_W_m2;
-      j["melanopic_edi_lx"] = ph.melanopic->edi_lx;
-    }
-    patches.push_back(std::move(j));
-  }
-  out["patches"] = std::move(patches);
+  out["patches"] = nullptr;  // written in place by write_result, one patch at a time
 
   json surfaces = json::array();
   for (const SurfaceSummary& s : report.surfaces) {
@@ -206,7 +211,29 @@ std::string encode_result(const Scene& scene, const Solution& sol, const Report&
         {"probes", st.time_probes_s},
         {"total", st.time_total_s}}}};
   out["warnings"] = sol.warnings;
-  return out.dump(indent);
+
+  // out.dump(), with "patches" (in its sorted place among the keys) written patch by patch.
+  os << '{';
+  bool first = true;
+  for (const auto& [key, value] : out.items()) {
+    if (!first) os << ',';
+    first = false;
+    os << json(key).dump() << ':';
+    if (key != "patches") {
+      os << value.dump();
+      continue;
+    }
+    os << '[';
+    for (std::size_t i = 0; i < sol.patches.size(); ++i) os << (i ? "," : "") << patch_json(scene, sol, report, i).dump();
+    os << ']';
+  }
+  os << '}';
+}
+
+std::string encode_result(const Scene& scene, const Solution& sol, const Report& report) {
+  std::ostringstream os;
+  write_result(os, scene, sol, report);
+  return std::move(os).str();
 }
 
 std::string summarize(const Scene& scene, const Solution& sol, const Report& report) {

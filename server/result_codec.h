@@ -1,6 +1,7 @@
 // Solution -> result JSON (SPEC §2), and the short human summary printed by `lambert solve`.
 #pragma once
 
+#include <ostream>
 #include <string>
 
 #include "solver/radiosity.h"
@@ -10,8 +11,10 @@ namespace lambert {
 
 // Positions are written in the scene's units; every per-area value is per square metre and every
 // area is in m² (SPEC "Lengths").
-std::string encode_result(const Scene& scene, const Solution& solution, const Report& report,
-                          int indent = -1);
+// The result JSON (SPEC §2), compact. write_result streams it: the patches, most of a large result,
+// are never held as a document.
+void write_result(std::ostream& os, const Scene& scene, const Solution& solution, const Report& report);
+std::string encode_result(const Scene& scene, const Solution& solution, const Report& report);
 
 std::string summarize(const Scene& scene, const Solution& solution, const Report& report);
 

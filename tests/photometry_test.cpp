@@ -143,6 +143,33 @@ TEST(Melanopic, ReportAndResultCarryMelanopicValues) {
   EXPECT_EQ(result.at("probes").at(1).at("melanopic_edi_lx").size(), 4u);
 }
 
+// write_result streams the patches one at a time, beside a document of the rest: its text must be
+// what the whole document's dump() gives (keys sorted, "patches" in its place, the same numbers), and
+// a name that needs escaping must survive.
+TEST(ResultCodec, StreamedResultIsTheDocumentsDump) {
+  const std::string text = R"({"name": "r\u00e9sultat \"q\"", "materials": {"grey": {"reflectance": 0.5}},
+    "surfaces": [)" + surface(R"(floor \\ \"A\")", "grey", face("floor", 1, 1, 1)) + R"(],
+    "lights": [{"type": "directional", "direction": [0, -1, 0], "irradiance": {"cie": "D65"},
+                "illuminance_lx": 1000}],
+    "probes": [{"name": "desk", "position": [0.5, 0.01, 0.5], "normal": [0, 1, 0]}],
+    "meshing": {"max_patch_area": 0.25}})";
+  const Scene scene = decode_ok(text);
+  const Solution sol = solve(scene);
+  const Report report = make_report(scene, sol);
+  const std::string out = encode_result(scene, sol, report);
+  const nlohmann::json result = nlohmann::json::parse(out);
+  EXPECT_EQ(result.dump(), out);
+  ASSERT_EQ(result.at("patches").size(), sol.patches.size());
+  ASSERT_GE(sol.patches.size(), 4u);
+  for (std::size_t i = 0; i < sol.patches.size(); ++i) {
+    EXPECT_EQ(result["patches"][i].at("id"), i);
+    EXPECT_EQ(result["patches"][i].at("surface"), R"(floor \ "A")");
+    EXPECT_EQ(result["patches"][i].at("radiosity").size(), scene.grid.size());
+  }
+  EXPECT_EQ(result.at("name"), "r\u00e9sultat \"q\"");
+  EXPECT_EQ(result.at("probes").size(), 1u);
+}
+
 // ---- CIELAB and CIEDE2000 ------------------------------------------------------------------------
 
 TEST(Cielab, WhiteIsL100AndNeutral) {

@@ -220,7 +220,7 @@ TEST(Render, AResultFileDrawsLikeItsSolution) {
   SceneBuilder b(grid_nm());
   const Solution sol = ambient_floor(b, 0.3, 0.6, 1.5);
   const Report report = make_report(b.scene(), sol);
-  const std::string text = encode_result(b.scene(), sol, report, -1);
+  const std::string text = encode_result(b.scene(), sol, report);
   std::optional<double> white;
   const RenderPatches from_result = result_render_patches(text, white);
   ASSERT_TRUE(white);
