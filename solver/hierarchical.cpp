@@ -170,6 +170,7 @@ class Hierarchy {
   // the gathered irradiance (rows) and D_c = source_scale on the radiosity shot (columns).
   std::vector<double> leaf_scale;
   std::vector<double> source_scale;
+  double balance_omega = 1;  // the over-relaxation that balance() reached
 
   // Per-node values of one gather pass, K systems interleaved ([node][k]).
   struct Values {
@@ -418,6 +419,16 @@ void check_cancel(const SolveControl& control) {
   if (control.cancel && control.cancel->load(std::memory_order_relaxed)) throw SolveCancelled();
 }
 
+// The balance's sweeps are a two-block Gauss–Seidel iteration on the scales' logarithms (rows, then
+// columns), consistently ordered, so the theory of successive over-relaxation applies to its
+// linearisation (Young): a plain sweep contracts the error by μ = β², the sweeps over-relaxed by ω by
+// the λ with (λ + ω − 1)² = λ ω² β², fastest at ω* = 2 / (1 + √(1 − β²)), where λ = ω* − 1. From a rate
+// λ observed at ω (≤ ω*), returns ω* for the β that it implies.
+double optimal_overrelaxation(double rate, double omega) {
+  const double beta = std::min(0.995, (rate + omega - 1) / (omega * std::sqrt(rate)));
+  return 2 / (1 + std::sqrt(1 - beta * beta));
+}
+
 // Closure and conservation. The links are estimates (rays, fits, cluster approximations) and not
 // reciprocal, so their row sums Σ_j F_ij (what leaf i gathers of a uniform radiosity) and their
 // area-weighted column sums Σ_i A_i F_ij / A_j (what the scene gathers of leaf j's power) both miss 1
@@ -425,9 +436,11 @@ void check_cancel(const SolveControl& control) {
 // by j is received as its column sum. So rows and columns are scaled together, F' = D_r F D_c
 // (Sinkhorn–Knopp, alternating): a closed leaf's row and column sums become 1, an open leaf's are
 // only kept from exceeding 1 (never more than a hemisphere, never more than was shot). Each sweep is
-// one apply() and one apply_transpose(), and the error halves per sweep; the scales of the previous
-// refinement round, whose links mostly remain, are the starting point. Returns the largest row-sum
-// error of a closed leaf before any scaling (stats.max_closure_error).
+// one apply() and one apply_transpose(); plain sweeps shrink the error by about 0.65 each in the
+// sphere furnaces, over-relaxed ones (optimal_overrelaxation) by about 0.3. The scales and the
+// over-relaxation of the previous refinement round, whose links mostly remain, are the starting
+// point. Returns the largest row-sum error of a closed leaf before any scaling
+// (stats.max_closure_error).
 double balance(Hierarchy& h, const std::vector<char>& closed, const std::vector<Patch>& patches,
                const SolveControl& control) {
   const std::size_t N = h.leaves.size();
@@ -444,19 +457,24 @@ double balance(Hierarchy& h, const std::vector<char>& closed, const std::vector<
   }
   if (h.leaf_scale.size() != N) h.leaf_scale.assign(N, 1.0);
   if (h.source_scale.size() != N) h.source_scale.assign(N, 1.0);
+  // Over-relaxed: a held scale moves ω times as far as a plain sweep would take it, on a log scale.
+  // The previous round's ω, fitted to nearly the same links, is the starting point.
+  double omega = h.balance_omega;
+  auto relax = [&](double old, double target) { return omega == 1 ? target : old * std::pow(target / old, omega); };
   auto scale_rows = [&] {  // returns the rows' error before
     h.apply({h.source_scale.data()}, {rows.data()}, false);  // Σ_j F_ij d_c,j
     double row_error = 0;
     for (std::size_t i = 0; i < N; ++i) {
       const double S = rows[i] * h.leaf_scale[i];
       if (full_row[i] && S > 0) row_error = std::max(row_error, std::abs(1 - S));
-      h.leaf_scale[i] = rows[i] > 0 && (full_row[i] || rows[i] > 1) ? 1 / rows[i] : 1.0;
+      h.leaf_scale[i] = rows[i] > 0 && (full_row[i] || rows[i] > 1) ? relax(h.leaf_scale[i], 1 / rows[i]) : 1.0;
     }
     return row_error;
   };
   // Stops at convergence, or when ten sweeps have not halved the error (leaves partly inside solids,
   // whose rows and columns are free, can make the balance crawl: it would cost sweeps, not accuracy).
   double best = 1e300, best_ten_ago = 1e300;
+  std::vector<double> errors;  // of the sweeps since ω last changed
   for (int sweep = 0; sweep < kMaxBalanceSweeps; ++sweep) {
     check_cancel(control);
     const double row_error = scale_rows();
@@ -467,16 +485,33 @@ double balance(Hierarchy& h, const std::vector<char>& closed, const std::vector<
       const double t = cols[j] / patches[j].area_m2;
       const double C = t * h.source_scale[j];
       if (closed[j] == 1 && C > 0) col_error = std::max(col_error, std::abs(1 - C));
-      h.source_scale[j] = t > 0 && (closed[j] == 1 || (closed[j] == 0 && t > 1)) ? 1 / t : 1.0;
+      h.source_scale[j] = t > 0 && (closed[j] == 1 || (closed[j] == 0 && t > 1)) ? relax(h.source_scale[j], 1 / t) : 1.0;
     }
     const double error = std::max(row_error, col_error);
     if (error < 1e-11) break;
+    errors.push_back(error);
+    const std::size_t n = errors.size();
+    if (n >= 4) {
+      const double rate = std::sqrt(errors[n - 1] / errors[n - 3]);  // per sweep, over the last two
+      if (rate < 1) {
+        const double omega_best = optimal_overrelaxation(rate, omega);
+        if (omega_best > omega + 0.02) {
+          omega = omega_best;
+          errors.clear();
+        }
+      } else if (omega > 1) {  // not converging: back to plain sweeps
+        omega = 1;
+        errors.clear();
+      }
+    }
     best = std::min(best, error);
     if (sweep % 10 == 9) {
       if (best > 0.5 * best_ten_ago) break;
       best_ten_ago = best;
     }
   }
+  h.balance_omega = omega;
+  omega = 1;
   // Rows last: a furnace with ρ = 0.999 multiplies a row's error by 1000. Where the sweeps stopped
   // short of convergence, the columns keep a small error, which the energy certificate shows as
   // imbalance.
