@@ -637,13 +637,6 @@ bool factor_pending(const Link& link) { return std::isnan(link.coeff[0]); }
 // index in the high 32 bits): see Refiner::leaf_exchange.
 using ExchangeCache = tbb::concurrent_unordered_map<std::uint64_t, double>;
 
-// Links found by the refiner. Those whose visibility needs rays wait in `pending` with their
-// unoccluded coefficients until Refiner::resolve() traces them together.
-struct LinkBatch {
-  std::vector<Link> links, pending;
-  std::vector<ClusterLink> cluster_links, cluster_pending;
-};
-
 // Frees a vector's buffer. (`v = {}` would not: it picks the initializer-list assignment, which keeps
 // the capacity.)
 template <class T>
@@ -651,26 +644,65 @@ void release(std::vector<T>& v) {
   std::vector<T>().swap(v);
 }
 
+// The links one thread finds, in blocks of 64 MiB. glibc maps blocks this large on their own (its
+// mmap threshold is at most 32 MiB) and returns them to the system when they are freed, so take_sorted
+// frees each block as soon as it is copied. In one growing vector per thread the links were held
+// twice while the first round copied them into one (a 1.6–1.9 GB bump per thread at 167 M links), and
+// the vector's own doublings copied them again as it grew.
+template <class L>
+class LinkBlocks {
+ public:
+  static constexpr std::size_t kBlock = (std::size_t{64} << 20) / sizeof(L);
+  void push_back(const L& link) {
+    if (blocks_.empty() || blocks_.back().size() == kBlock) {
+      blocks_.emplace_back();
+      blocks_.back().reserve(kBlock);  // address space: pages take memory as links are written
+    }
+    blocks_.back().push_back(link);
+    ++size_;
+  }
+  std::size_t size() const { return size_; }
+  // Appends the links to `to`, freeing each block once it is copied.
+  void move_to(std::vector<L>& to) {
+    for (std::vector<L>& block : blocks_) {
+      to.insert(to.end(), block.begin(), block.end());
+      release(block);
+    }
+    blocks_.clear();
+    size_ = 0;
+  }
+
+ private:
+  std::vector<std::vector<L>> blocks_;
+  std::size_t size_ = 0;
+};
+
+// Links found by the refiner. Those whose visibility needs rays wait in `pending` with their
+// unoccluded coefficients until Refiner::resolve() traces them together.
+struct LinkBatch {
+  LinkBlocks<Link> links;
+  LinkBlocks<ClusterLink> cluster_links;
+  std::vector<Link> pending;
+  std::vector<ClusterLink> cluster_pending;
+};
+
 template <class L>
 bool link_order(const L& a, const L& b) {
   return a.receiver != b.receiver ? a.receiver < b.receiver : a.source < b.source;
 }
 
 // The links that the threads found (one member of their batches), in one vector sorted by receiver,
-// then source. Each thread's part is freed as soon as it is copied: the peak is one copy of the links
-// and one part, not two copies. `headroom` more links are reserved for merge_rechecked, in address
-// space only: pages that are never written take no memory.
+// then source. The threads' blocks are freed as they are copied: the peak is one copy of the links
+// and a block. `headroom` more links are reserved for merge_rechecked, in address space only: pages
+// that are never written take no memory.
 template <class L>
-std::vector<L> take_sorted(tbb::enumerable_thread_specific<LinkBatch>& found, std::vector<L> LinkBatch::*part,
+std::vector<L> take_sorted(tbb::enumerable_thread_specific<LinkBatch>& found, LinkBlocks<L> LinkBatch::*part,
                            double headroom = 0) {
   std::size_t total = 0;
   for (LinkBatch& batch : found) total += (batch.*part).size();
   std::vector<L> all;
   all.reserve(total + static_cast<std::size_t>(headroom * static_cast<double>(total)));
-  for (LinkBatch& batch : found) {
-    all.insert(all.end(), (batch.*part).begin(), (batch.*part).end());
-    release(batch.*part);
-  }
+  for (LinkBatch& batch : found) (batch.*part).move_to(all);
   tbb::parallel_sort(all.begin(), all.end(), link_order<L>);
   return all;
 }
@@ -785,7 +817,8 @@ class Refiner {
     link.source = s;
     for (int k = 0; k < 3; ++k) link.coeff[k] = static_cast<float>(a[k]);
     link.error_per_B = static_cast<float>((residual + partial) * weight);
-    (clear ? out.links : out.pending).push_back(link);
+    if (clear) out.links.push_back(link);
+    else out.pending.push_back(link);
   }
 
   void refine_to_cluster(int r, int c, LinkBatch& out) const {
