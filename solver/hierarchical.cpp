@@ -39,8 +39,9 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-// The solver's own patch limit. Elements, links and spectra take about 6 KB per patch (measured:
-// 5.7 GB at 0.85 M patches, 10.6 GB at 1.9 M, one wavelength), so this is about 12 GB.
+// The solver's own patch limit. Elements, links and spectra take 2.5–7 KB per patch, one wavelength
+// (measured: 4.9 GB at 1.9 M patches of the office furnace, 7.2 GB at 0.98 M patches of faceted
+// spheres, one root each), so this is 5–14 GB.
 constexpr std::size_t kMaxHierarchicalPatches = 2'000'000;
 constexpr int kRootLevels = 3;         // a root holds at most 4^3 = 64 output patches
 constexpr int kRefineRounds = 3;
@@ -493,8 +494,8 @@ double balance(Hierarchy& h, const std::vector<char>& closed, const std::vector<
     const std::size_t n = errors.size();
     if (n >= 4) {
       const double rate = std::sqrt(errors[n - 1] / errors[n - 3]);  // per sweep, over the last two
-      if (rate < 1) {
-        const double omega_best = optimal_overrelaxation(rate, omega);
+      if (rate < 1) {  // (a rate below ω − 1 is faster than the model allows: nothing to infer)
+        const double omega_best = rate >= omega - 1 ? optimal_overrelaxation(rate, omega) : omega;
         if (omega_best > omega + 0.02) {
           omega = omega_best;
           errors.clear();
