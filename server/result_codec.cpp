@@ -28,8 +28,8 @@ json array_json(const std::array<double, K>& v) {
   return a;
 }
 
-// One element of "patches". Patches are written one at a time (write_result): held as a document,
-// they took about 5 KB each, 4.8 GB at a million patches, on top of the text.
+// One element of "patches". Patches are written one at a time (write_result): with the whole result
+// held as a document, writing 984 320 patches (836 MB of text) peaked at 4.8 GB; streamed, 1.55 GB.
 json patch_json(const Scene& scene, const Solution& sol, const Report& report, std::size_t i) {
   const std::size_t W = sol.wavelengths();
   const bool spectral = scene.output.spectral;
