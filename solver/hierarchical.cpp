@@ -472,8 +472,11 @@ double balance(Hierarchy& h, const std::vector<char>& closed, const std::vector<
     }
     return row_error;
   };
-  // Stops at convergence, or when ten sweeps have not halved the error (leaves partly inside solids,
-  // whose rows and columns are free, can make the balance crawl: it would cost sweeps, not accuracy).
+  // Stops at convergence, or when ten sweeps have not cut the error tenfold (leaves partly inside
+  // solids, whose rows and columns are free, can make the balance crawl: it would cost sweeps, not
+  // accuracy). Healthy sweeps gain 10⁴ in ten, plain or over-relaxed. Over-relaxed sweeps do keep
+  // crawling down, at about 0.8 a sweep, where plain ones stall. Halving in ten sweeps was not enough:
+  // a lit room of 984 320 patches spent 100 sweeps a round, 320 s of its 861.
   double best = 1e300, best_ten_ago = 1e300;
   std::vector<double> errors;  // of the sweeps since ω last changed
   for (int sweep = 0; sweep < kMaxBalanceSweeps; ++sweep) {
@@ -507,7 +510,7 @@ double balance(Hierarchy& h, const std::vector<char>& closed, const std::vector<
     }
     best = std::min(best, error);
     if (sweep % 10 == 9) {
-      if (best > 0.5 * best_ten_ago) break;
+      if (best > 0.1 * best_ten_ago) break;
       best_ten_ago = best;
     }
   }
