@@ -11,9 +11,11 @@
 // bounding-volume hierarchy over the roots.
 //
 // Links gather into elements, and into clusters whose roots' normals all face the source (see
-// below). An element→element link carries the exact point-to-polygon kernel averaged over the receiver (adaptive cubature for near pairs) times a kernel-weighted ray-traced
-// visible fraction (16 rays, 64 where they disagree; none where the shaft between two elements that
-// are not both leaves is clear). A cluster→element link carries the cluster's radiant intensity I(ω) = Σ_k (ω·e_k)⁺ Φ_k / π, with Φ_k = Σ_j B_j A_j (n_j·e_k)⁺ the cluster's
+// below). An element→element link carries the exact point-to-polygon kernel averaged over the
+// receiver (adaptive cubature for near pairs) times a kernel-weighted ray-traced visible fraction
+// (16 rays, 64 where they disagree; none where the shaft between two elements that are not both
+// leaves is clear). A cluster→element link carries the cluster's radiant intensity
+// I(ω) = Σ_k (ω·e_k)⁺ Φ_k / π, with Φ_k = Σ_j B_j A_j (n_j·e_k)⁺ the cluster's
 // radiosity-weighted projected area on the six axis directions, scaled so that a cluster of uniform
 // radiosity sends exactly the area it shows, Σ_j A_j (n_j·ω)⁺ (found through the clusters' normal
 // cones; the bins alone overstate it up to √3 times wherever normals are not in ω's octant), over
@@ -42,7 +44,8 @@
 // Solve: the operator F is applied matrix-free (pull radiosity up to elements and clusters, gather
 // over links, push irradiance down to the leaves) inside the lockstep GMRES of solver/linear_solve.h,
 // one system per distinct spectral system. Closure and conservation: the operator is balanced as
-// F' = D_r F D_c (Sinkhorn–Knopp, with the transposed operator) so that each leaf whose hemisphere
+// F' = D_r F D_c (Sinkhorn–Knopp with the transposed operator; its sweeps over-relaxed by an ω fitted
+// to their observed rate, Young's SOR theory) so that each leaf whose hemisphere
 // is closed (probe rays all hit front faces) gathers exactly a hemisphere (row sum 1: a furnace gives
 // B = M/(1 − ρ) exactly) and has all its power gathered (area-weighted column sum 1: energy is
 // conserved); the largest raw row-sum error is reported as stats.max_closure_error. The energy
