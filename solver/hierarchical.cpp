@@ -420,16 +420,6 @@ void check_cancel(const SolveControl& control) {
   if (control.cancel && control.cancel->load(std::memory_order_relaxed)) throw SolveCancelled();
 }
 
-// The balance's sweeps are a two-block Gauss–Seidel iteration on the scales' logarithms (rows, then
-// columns), consistently ordered, so the theory of successive over-relaxation applies to its
-// linearisation (Young): a plain sweep contracts the error by μ = β², the sweeps over-relaxed by ω by
-// the λ with (λ + ω − 1)² = λ ω² β², fastest at ω* = 2 / (1 + √(1 − β²)), where λ = ω* − 1. From a rate
-// λ observed at ω (≤ ω*), returns ω* for the β that it implies.
-double optimal_overrelaxation(double rate, double omega) {
-  const double beta = std::min(0.995, (rate + omega - 1) / (omega * std::sqrt(rate)));
-  return 2 / (1 + std::sqrt(1 - beta * beta));
-}
-
 // Closure and conservation. The links are estimates (rays, fits, cluster approximations) and not
 // reciprocal, so their row sums Σ_j F_ij (what leaf i gathers of a uniform radiosity) and their
 // area-weighted column sums Σ_i A_i F_ij / A_j (what the scene gathers of leaf j's power) both miss 1
@@ -438,7 +428,7 @@ double optimal_overrelaxation(double rate, double omega) {
 // (Sinkhorn–Knopp, alternating): a closed leaf's row and column sums become 1, an open leaf's are
 // only kept from exceeding 1 (never more than a hemisphere, never more than was shot). Each sweep is
 // one apply() and one apply_transpose(); plain sweeps shrink the error by about 0.65 each in the
-// sphere furnaces, over-relaxed ones (optimal_overrelaxation) by about 0.3. The scales and the
+// sphere furnaces, over-relaxed ones (optimal_overrelaxation, solver/linear_solve.h) by about 0.3. The scales and the
 // over-relaxation of the previous refinement round, whose links mostly remain, are the starting
 // point. Returns the largest row-sum error of a closed leaf before any scaling
 // (stats.max_closure_error).
