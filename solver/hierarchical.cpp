@@ -1322,7 +1322,7 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
 
   // ---- visibility scene (the roots: the same surfaces, fewer triangles than the leaves) ----
   t0 = Clock::now();
-  const Visibility vis(occluders);
+  const Visibility vis(occluders, Visibility::Estimates::fast);  // link rays in the fast BVH
   const ExactVisibility shafts(occluders);
   std::vector<Vector3> occluder_normals(occluders.size());
   for (std::size_t k = 0; k < occluders.size(); ++k) occluder_normals[k] = h.elements[h.roots[k]].normal;

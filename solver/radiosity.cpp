@@ -482,7 +482,7 @@ Solution solve_dense(const Scene& scene, const SolveControl& control, const std:
   t0 = Clock::now();
   std::vector<Triangle> occluders(N);
   for (std::size_t i = 0; i < N; ++i) occluders[i] = sol.patches[i].triangle;
-  const Visibility vis(occluders);
+  const Visibility vis(occluders, Visibility::Estimates::fast);  // link rays in the fast BVH
   // Pairs that no occluder plane separates need no rays, links and probes alike (occluder_planes.h).
   std::vector<Triangle> input_triangles;
   for (const Surface& surface : scene.surfaces)

@@ -44,11 +44,14 @@ void set_ftz_daz() {
 }  // namespace
 
 struct Visibility::Impl {
-  RTCScene scene = nullptr;
+  RTCScene scene = nullptr;           // robust (watertight)
+  RTCScene estimate_scene = nullptr;  // the same geometry without robust mode, or null (Estimates)
   Point3 origin;              // re-centring offset (the scene's bounding-box centre)
   double epsilon_m = 0;       // end-point exclusion distance
   double scene_size = 1;      // bounding-box diagonal
   mutable std::atomic<std::uint64_t> rays{0};
+
+  void occluded(RTCScene in, std::span<const Segment> segments, std::span<std::uint8_t> visible) const;
 
   void fill_ray(const Point3& from, const Point3& to, RTCRay& ray) const {
     const Vector3 d = to - from;
@@ -71,7 +74,7 @@ struct Visibility::Impl {
   }
 };
 
-Visibility::Visibility(std::span<const Triangle> occluders) : impl_(std::make_unique<Impl>()) {
+Visibility::Visibility(std::span<const Triangle> occluders, Estimates estimates) : impl_(std::make_unique<Impl>()) {
   RTCDevice device = shared_device();
   Bounds3 bounds;
   for (const Triangle& t : occluders)
@@ -105,15 +108,22 @@ Visibility::Visibility(std::span<const Triangle> occluders) : impl_(std::make_un
     }
     rtcCommitGeometry(geometry);
     rtcAttachGeometry(impl_->scene, geometry);
+    if (estimates == Estimates::fast) {  // a geometry may be attached to several scenes: one copy
+      impl_->estimate_scene = rtcNewScene(device);
+      rtcAttachGeometry(impl_->estimate_scene, geometry);
+    }
     rtcReleaseGeometry(geometry);
   }
   rtcCommitScene(impl_->scene);
+  if (impl_->estimate_scene) rtcCommitScene(impl_->estimate_scene);
   if (rtcGetDeviceError(device) != RTC_ERROR_NONE)
     throw std::runtime_error("Embree failed to build the visibility scene (" + last_embree_error + ")");
 }
 
 Visibility::~Visibility() {
-  if (impl_ && impl_->scene) rtcReleaseScene(impl_->scene);
+  if (!impl_) return;
+  if (impl_->scene) rtcReleaseScene(impl_->scene);
+  if (impl_->estimate_scene) rtcReleaseScene(impl_->estimate_scene);
 }
 
 bool Visibility::visible(const Point3& from, const Point3& to) const {
@@ -142,19 +152,27 @@ int Visibility::first_hit(const Point3& from, const Point3& to) const {
 
 double Visibility::scene_extent() const { return 2 * impl_->scene_size; }
 
-void Visibility::visible(std::span<const Segment> segments, std::span<std::uint8_t> visible) const {
+void Visibility::Impl::occluded(RTCScene in, std::span<const Segment> segments, std::span<std::uint8_t> visible) const {
   set_ftz_daz();
   constexpr std::size_t kStream = 256;  // rtcOccluded1M sweet spot on this machine (STACK.md §4)
-  alignas(16) RTCRay rays[kStream];
+  alignas(16) RTCRay stream[kStream];
   RTCIntersectContext context;
   for (std::size_t start = 0; start < segments.size(); start += kStream) {
     const std::size_t m = std::min(kStream, segments.size() - start);
-    for (std::size_t k = 0; k < m; ++k) impl_->fill_ray(segments[start + k].from, segments[start + k].to, rays[k]);
+    for (std::size_t k = 0; k < m; ++k) fill_ray(segments[start + k].from, segments[start + k].to, stream[k]);
     rtcInitIntersectContext(&context);
-    rtcOccluded1M(impl_->scene, &context, rays, static_cast<unsigned>(m), sizeof(RTCRay));
-    for (std::size_t k = 0; k < m; ++k) visible[start + k] = rays[k].tfar >= 0 ? 1 : 0;
+    rtcOccluded1M(in, &context, stream, static_cast<unsigned>(m), sizeof(RTCRay));
+    for (std::size_t k = 0; k < m; ++k) visible[start + k] = stream[k].tfar >= 0 ? 1 : 0;
   }
-  impl_->rays.fetch_add(segments.size(), std::memory_order_relaxed);
+  rays.fetch_add(segments.size(), std::memory_order_relaxed);
+}
+
+void Visibility::visible(std::span<const Segment> segments, std::span<std::uint8_t> visible) const {
+  impl_->occluded(impl_->scene, segments, visible);
+}
+
+void Visibility::estimate_visible(std::span<const Segment> segments, std::span<std::uint8_t> visible) const {
+  impl_->occluded(impl_->estimate_scene ? impl_->estimate_scene : impl_->scene, segments, visible);
 }
 
 void Visibility::first_hits(std::span<const Segment> segments, std::span<int> hits) const {

@@ -127,7 +127,7 @@ std::size_t weighted_visible_fractions(const Visibility& vis, std::size_t count,
       if (weights[r] > 0) segments[kept] = segments[r], weights[kept] = weights[r], ray_link[kept++] = ray_link[r];
     segments.resize(kept), weights.resize(kept), ray_link.resize(kept);
     visible.resize(segments.size());
-    vis.visible(segments, visible);
+    vis.estimate_visible(segments, visible);
     traced += segments.size();
     for (std::size_t r = 0; r < segments.size(); ++r) tallies[ray_link[r]].add(weights[r], visible[r] != 0);
     still_open.clear();
