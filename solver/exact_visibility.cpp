@@ -345,7 +345,19 @@ bool ExactVisibility::shaft_is_clear(std::span<const Point3> points_world) const
         if (!known) region.push_back(face);
       }
   if (region.empty()) return true;  // flat: nothing can be inside
-  return !impl_->query(region, [&](const Triangle& t) { return clip_to_region(t, region).count >= 3; });
+  // Most triangles that the tree hands over lie wholly outside one face of the hull or wholly inside
+  // every face: their corners decide, as clip_to_region would (an empty part, or the whole triangle),
+  // and only triangles that cross a face are clipped.
+  auto meets_region = [&](const Triangle& t) {
+    bool inside = true;
+    for (const HalfSpace& h : region) {
+      const double d0 = h.signed_distance(t.v[0]), d1 = h.signed_distance(t.v[1]), d2 = h.signed_distance(t.v[2]);
+      if (d0 < 0 && d1 < 0 && d2 < 0) return false;
+      inside = inside && d0 >= 0 && d1 >= 0 && d2 >= 0;
+    }
+    return inside || clip_to_region(t, region).count >= 3;
+  };
+  return !impl_->query(region, meets_region);
 }
 
 }  // namespace lambert

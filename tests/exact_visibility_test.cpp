@@ -324,6 +324,9 @@ TEST(ShaftCulling, ClearOnlyWhenNothingIsBetween) {
   EXPECT_FALSE(ExactVisibility(concat(concat(top, bottom), rect_at(0.45, 0.55, 0.3, 0.4, 0.5, false))).shaft_is_clear(hull));
   EXPECT_TRUE(ExactVisibility(concat(concat(top, bottom), rect_at(1.5, 2, 0, 1, 0.5, false))).shaft_is_clear(hull));
   EXPECT_TRUE(ExactVisibility(concat(concat(top, bottom), rect_at(0, 1, 0, 1, 1.5, false))).shaft_is_clear(hull));
+  // A plate across the whole shaft, wider on every side: none of its corners is inside, and none of
+  // its triangles lies wholly outside one face of the hull, so clipping decides.
+  EXPECT_FALSE(ExactVisibility(concat(concat(top, bottom), rect_at(-1, 2, -1, 2, 0.5, false))).shaft_is_clear(hull));
   // Perpendicular plates sharing an edge: their own surfaces touch the shaft's boundary only.
   const auto wall = rectangle({0, 0, 0}, {0, 0, 1}, {1, 0, 0});
   const std::array<Point3, 6> corner = {bottom[0].v[0], bottom[0].v[1], bottom[0].v[2], wall[0].v[0], wall[0].v[1], wall[0].v[2]};
