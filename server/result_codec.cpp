@@ -203,6 +203,7 @@ void write_result(std::ostream& os, const Scene& scene, const Solution& sol, con
         {"relative_imbalance", st.relative_imbalance}}},
       {"closure_max_error", st.max_closure_error},
       {"reciprocity_max_error", st.max_reciprocity_error},
+      {"reciprocity_mean_error", st.mean_reciprocity_error},
       {"time_s",
        {{"meshing", st.time_meshing_s},
         {"visibility", st.time_visibility_s},

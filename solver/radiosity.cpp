@@ -737,15 +737,19 @@ Solution solve_dense(const Scene& scene, const SolveControl& control, const std:
     });
     sol.stats.max_closure_error = worst_closure;
     report_hemisphere_findings(sol, scene, closed);
-    double worst = 0;
+    double worst = 0, differ = 0, exchanged = 0;
     for (std::size_t i = 0; i < N; ++i)
       for (std::size_t j = i + 1; j < N; ++j) {
         const double gij = sol.patches[i].area_m2 * F[i * N + j], gji = sol.patches[j].area_m2 * F[j * N + i];
         const double big = std::max(gij, gji);
-        if (big > 1e-9 * std::min(sol.patches[i].area_m2, sol.patches[j].area_m2))
+        if (big > 1e-9 * std::min(sol.patches[i].area_m2, sol.patches[j].area_m2)) {
           worst = std::max(worst, std::abs(gij - gji) / big);
+          differ += std::abs(gij - gji);
+          exchanged += big;
+        }
       }
     sol.stats.max_reciprocity_error = worst;
+    sol.stats.mean_reciprocity_error = exchanged > 0 ? differ / exchanged : 0;
   }
   sol.stats.links = links;
   sol.stats.links_clear = links_clear;

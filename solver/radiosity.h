@@ -47,6 +47,7 @@ struct SolveStats {
   double max_closure_error = 0;        // max |1 − Σ_j F_ij| over closed patches, before their rows
                                        // were scaled to 1 (the visible-fraction estimates' error)
   double max_reciprocity_error = 0;    // max |A_i F_ij − A_j F_ji| / max(A_i F_ij, A_j F_ji)
+  double mean_reciprocity_error = 0;   // Σ |A_i F_ij − A_j F_ji| / Σ max(A_i F_ij, A_j F_ji), same pairs
   double time_meshing_s = 0, time_visibility_s = 0, time_form_factors_s = 0, time_solve_s = 0,
          time_probes_s = 0, time_total_s = 0;
   double max_patch_area_m2 = 0;
