@@ -20,7 +20,7 @@ class Visibility {
   // for links between patches) are traced. Every other ray is watertight: Embree's robust mode, so
   // that a ray through the seam between two triangles cannot slip out of a closed room (the closure
   // probe, a point light's single shadow ray). `fast` traces estimates in a second BVH over the same
-  // triangles without robust mode: 10–13 % less refinement time in the sphere rooms of
+  // triangles without robust mode: about 12 % less refinement time in the sphere rooms of
   // docs/BENCHMARKS.md, for about 60 bytes per triangle. A ray there may pass a seam within float
   // precision of an edge; in a fraction averaged over 4 to 64 rays that is far below the sampling
   // error (the 245 772-triangle lit sphere room: surface means within 3e-7).

@@ -82,10 +82,11 @@ double weighted_visible_fraction(const Visibility& vis, Endpoints&& endpoints, W
 }
 
 // The same for `count` links at once (one receiver's row of links): each round's rays of all links
-// still undecided go to Embree together as a stream (Visibility::visible on a span), which traces
-// coherent rays about twice as fast as one call per ray. endpoints(l, k) and weight(l, from, to) as
-// above for link l; fractions[l] receives the result, equal to weighted_visible_fraction's. Returns
-// the number of rays traced.
+// still undecided go to Embree together as a stream (Visibility::estimate_visible: the fast BVH
+// where the Visibility has one), which traces coherent rays about twice as fast as one call per ray.
+// endpoints(l, k) and weight(l, from, to) as above for link l; fractions[l] receives the result,
+// equal to weighted_visible_fraction's but where a ray passes within float precision of a seam.
+// Returns the number of rays traced.
 //
 // Links with early_hidden[l] set (the span may be empty: none) first trace 4 rays alone and are closed
 // as hidden if all 4 are blocked; otherwise they go on as the others do. For links whose whole
