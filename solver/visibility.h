@@ -23,7 +23,7 @@ class Visibility {
   // triangles without robust mode: about 12 % less refinement time in the sphere rooms of
   // docs/BENCHMARKS.md, for about 60 bytes per triangle. A ray there may pass a seam within float
   // precision of an edge; in a fraction averaged over 4 to 64 rays that is far below the sampling
-  // error (the 245 772-triangle lit sphere room: surface means within 3e-7).
+  // error (the 245 774-triangle lit sphere room: surface means within 3e-7).
   enum class Estimates { watertight, fast };
 
   // Occluders: every triangle of the scene (metres). Throws std::runtime_error if Embree fails.
