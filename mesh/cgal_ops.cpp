@@ -641,9 +641,7 @@ ContactImprint imprint_contacts(const std::vector<TriangleMesh>& meshes, double 
   using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, int>;
   std::vector<Box> boxes;
   for (int r = 0; r < static_cast<int>(refs.size()); ++r) {
-    const Triangle t = meshes[refs[r].mesh].triangle(refs[r].triangle);
-    Bounds3 b;
-    for (const Point3& p : t.v) b.add(p);
+    const Bounds3 b = bounds(meshes[refs[r].mesh].triangle(refs[r].triangle));
     double lo[3] = {b.lo.x - eps, b.lo.y - eps, b.lo.z - eps}, hi[3] = {b.hi.x + eps, b.hi.y + eps, b.hi.z + eps};
     boxes.emplace_back(Box(lo, hi, r));
   }

@@ -116,4 +116,10 @@ struct Bounds3 {
   Point3 center() const { return barycentric(lo, hi, hi, 0.5, 0.5, 0.0); }
 };
 
+inline Bounds3 bounds(const Triangle& t) {
+  Bounds3 b;
+  for (const Point3& p : t.v) b.add(p);
+  return b;
+}
+
 }  // namespace lambert

@@ -590,6 +590,42 @@ void bound_projected_area(const Hierarchy& h, int c, const Vector3& w, int& budg
 }
 constexpr int kProjectionBudget = 256;  // clusters descended into per bound_projected_area
 
+// Whether some root of cluster C may face some point of `receiver` (a box), which lies along
+// directions within δ of w (unit, from C; sin δ given): false only where none can. A pair of bounding
+// spheres whose radii sum to `scale`, centres d apart, see each other along directions within
+// δ = asin(scale/d) of the line between the centres, and a cluster's projected area along that line
+// alone says nothing of them: a floor seen edge-on from the cluster's centre shows no area along it,
+// yet a receiver above part of the floor sees that part.
+bool may_face(const Cluster& C, const Vector3& w, double sin_delta, const Bounds3& receiver) {
+  if (C.axis_normals) {
+    // A root facing +e_a faces some direction of the cone iff w_a > −sin δ, and some point of the
+    // receiver only if the receiver reaches above the cluster's lowest point along e_a.
+    const double wa[3] = {w.x, w.y, w.z};
+    const double lo[3] = {C.box.lo.x, C.box.lo.y, C.box.lo.z}, hi[3] = {C.box.hi.x, C.box.hi.y, C.box.hi.z};
+    const double r_lo[3] = {receiver.lo.x, receiver.lo.y, receiver.lo.z};
+    const double r_hi[3] = {receiver.hi.x, receiver.hi.y, receiver.hi.z};
+    for (int a = 0; a < 3; ++a)
+      if ((C.projected[2 * a] > 0 && wa[a] > -sin_delta && r_hi[a] > lo[a]) ||
+          (C.projected[2 * a + 1] > 0 && -wa[a] > -sin_delta && r_lo[a] < hi[a]))
+        return true;
+    return false;
+  }
+  if (C.cone_sin > 1) return true;
+  const double alpha = std::acos(std::clamp(dot(C.cone_axis, w), -1.0, 1.0));
+  return alpha - std::asin(C.cone_sin) - std::asin(std::min(1.0, sin_delta)) < kPi / 2;
+}
+
+// The largest area cluster C shows in any direction, Σ A (n·u)⁺ ≤ Σ_a |u_a| max(bin +a, bin −a),
+// at most the norm of those three maxima (Cauchy–Schwarz, |u| = 1).
+double max_projected(const Cluster& C) {
+  double sum = 0;
+  for (int a = 0; a < 3; ++a) {
+    const double most = std::max(C.projected[2 * a], C.projected[2 * a + 1]);
+    sum += most * most;
+  }
+  return std::sqrt(sum);
+}
+
 // How a link to cluster c from direction w (unit, from the cluster) reads its projected power Φ: the
 // three bins facing w, weighted so that a cluster of uniform radiosity B sends B × `projected` (the
 // area it shows, within ± `uncertainty`) rather than the bins' upper bound. Where the radiosity is
@@ -835,12 +871,22 @@ class Refiner {
     const double d_min = d - C.radius - R.radius;
     if (d >= kWellSeparated * scale && d_min > 0) {
       const Vector3 w = d_vec / d;
+      // Nothing passes only where no direction between the two faces both ways (see may_face); where
+      // the line between the centres misses but others may not, the pair is split below, unless all
+      // that could pass is within the oracle's budget.
+      const double sin_delta = scale / d;
+      const double cos_r = -dot(R.normal, w);
+      if (cos_r <= -sin_delta || !may_face(C, w, sin_delta, bounds(R.tri))) return;
       const ClusterView view = cluster_view(h_, c, w);
-      if (view.projected <= 0) return;  // every element of the cluster faces away from the receiver
+      if (view.projected <= 0 || cos_r <= 0) {
+        // A link of factor 0: the line between the centres misses, others may not. Along those, the
+        // cosine on the side it misses is at most sin δ, so what passes is at most this.
+        const double reach = max_projected(C) * (view.projected > 0 ? 1 : sin_delta) * (cos_r > 0 ? 1 : sin_delta) /
+                             (kPi * d_min * d_min) * area_weight(R.area);
+        if (cluster_B_[c] * reach <= epsilon_) return;
+      }
       const double error_per_B = one_point_error(view, scale, d, d_min, R.area);
-      if (cluster_B_[c] * error_per_B <= epsilon_) {
-        const double cos_r = std::max(0.0, -dot(R.normal, w));
-        if (cos_r <= 0) return;
+      if (view.projected > 0 && cos_r > 0 && cluster_B_[c] * error_per_B <= epsilon_) {
         Link link;
         link.receiver = r;
         link.source = c;
@@ -901,15 +947,25 @@ class Refiner {
     const double theta = std::asin(R.cone_sin);
     const double delta = std::asin(std::min(1.0, scale / d));
     if (alpha - theta - delta >= kPi / 2) return;  // every receiver faces away from every source point
+    // The source: nothing passes where none of it faces any direction of the cone (may_face); where
+    // only the line between the centres misses it, the pair is split unless all that could pass is
+    // within the oracle's budget.
+    const double sin_delta = std::min(1.0, scale / d);
     ClusterView view;
     if (from_cluster) {
+      if (!may_face(h_.clusters[s], w, sin_delta, R.box)) return;
       view = cluster_view(h_, s, w);
     } else {
       const Element& E = h_.elements[s];
+      if (dot(E.normal, w) <= -sin_delta) return;
       view.projected = E.area * std::max(0.0, dot(E.normal, w));
     }
-    if (view.projected <= 0) return;  // the source faces away from the receivers
     const double B = from_cluster ? cluster_B_[s] : element_B_[s];
+    if (view.projected <= 0) {  // a link of factor 0, as in refine_to_cluster
+      const double shown = from_cluster ? max_projected(h_.clusters[s]) : h_.elements[s].area;
+      const double reach = shown * sin_delta / (kPi * d_min * d_min) * area_weight(R.area);
+      return B * reach <= epsilon_ ? void() : split();
+    }
     const double error_per_B = one_point_error(view, scale, d, d_min, R.area);
     if (alpha + theta > kPi / 2) return split_receiver();
     if (B * error_per_B > epsilon_) return split();
