@@ -1683,9 +1683,17 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
             closed[i] = hemisphere_is_closed(h.elements[h.leaves[i]], i, rays, vis, occluder_normals, occluder_two_sided);
         });
       }
-      std::vector<double> sends(N, 0.0);  // the radiosity of the last solve (the first round: M + ρ E_direct)
-      for (const auto& sys : systems)
-        for (std::size_t i = 0; i < N; ++i) sends[i] = std::max(sends[i], std::abs(sys.x[i]));
+      // What each leaf sends: the radiosity of the last solve; before the first, the oracle's
+      // estimate (M + ρ E_direct, and ρ times the mean interreflected irradiance), since a room lit
+      // by an emitting panel has M + ρ E_direct = 0 on every reflector, whose columns would then be
+      // left free in the first round, and the later rounds' balances would start without them.
+      std::vector<double> sends(N, 0.0);
+      if (round == 0) {
+        sends = leaf_B;
+      } else {
+        for (const auto& sys : systems)
+          for (std::size_t i = 0; i < N; ++i) sends[i] = std::max(sends[i], std::abs(sys.x[i]));
+      }
       sol.stats.max_closure_error = balance(h, closed, sends, emits, sol.patches, control);
       time_links += seconds_since(t1);
       report(0.1 + 0.2 * (round + 1));
