@@ -509,22 +509,17 @@ double balance(Hierarchy& h, const std::vector<char>& closed, const std::vector<
     }
     double col_error = 0;
     for (std::size_t j = 0; j < N; ++j) {
-      if (closed[j] == 1 && emits[j]) {
-        const double sent = root_sent[root_of[j]], C = root_gathered[root_of[j]] / sent;
+      if (closed[j] == 1) {
+        // What the scene gathers of the power sent, over that power: the root's emitting leaves
+        // together, or the leaf alone.
+        const double sent = emits[j] ? root_sent[root_of[j]] : sends[j] * patches[j].area_m2;
+        const double C = (emits[j] ? root_gathered[root_of[j]] : sends[j] * cols[j] * h.source_scale[j]) / sent;
         if (!(sent > 0 && C > 0)) {
-          h.source_scale[j] = 1.0;
+          h.source_scale[j] = 1.0;  // sends nothing: no power to conserve
           continue;
         }
         col_error = std::max(col_error, std::abs(1 - C));
         h.source_scale[j] = relax(h.source_scale[j], h.source_scale[j] / C);
-      } else if (closed[j] == 1) {
-        const double t = cols[j] / patches[j].area_m2;
-        if (!(sends[j] > 0 && t > 0)) {
-          h.source_scale[j] = 1.0;  // sends nothing: no power to conserve
-          continue;
-        }
-        col_error = std::max(col_error, std::abs(1 - t * h.source_scale[j]));
-        h.source_scale[j] = relax(h.source_scale[j], 1 / t);
       } else {
         const double t = cols[j] / patches[j].area_m2;
         h.source_scale[j] = closed[j] == 0 && t > 1 ? relax(h.source_scale[j], 1 / t) : 1.0;
@@ -1520,13 +1515,14 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
   }
   const std::size_t K = systems.size();
   const bool need_links = any_emitter || (any_reflector && !sources.empty());
-  // Leaves that never send anything (black and not emitting, at every wavelength): B = 0 whatever
-  // they receive.
-  std::vector<char> shoots(N, 0), emits(N, 0);
-  for (const auto& sys : systems)
-    for (std::size_t i = 0; i < N; ++i) shoots[i] = shoots[i] || sys.rho[i] != 0 || sys.b[i] != 0;
+  // Per leaf: whether it emits at some wavelength, and whether it sends anything at all (emits or
+  // reflects); one that does not is black and keeps B = 0 whatever it receives.
+  std::vector<char> emits(N, 0), shoots(N, 0);
   for (std::size_t i = 0; i < N; ++i)
-    for (std::size_t w = 0; w < W; ++w) emits[i] = emits[i] || M[i * W + w] > 0;
+    for (std::size_t w = 0; w < W; ++w) {
+      emits[i] = emits[i] || M[i * W + w] > 0;
+      shoots[i] = shoots[i] || emits[i] || rho[i * W + w] != 0;
+    }
 
   std::vector<char> closed(N, 0);  // per leaf: 1 closed hemisphere, 2 leaking (hemisphere_is_closed)
   // Radiosity for the oracle: per leaf the largest |B| over the systems, pulled up (area mean per
