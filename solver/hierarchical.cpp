@@ -26,6 +26,7 @@
 #include "solver/cubature.h"
 #include "solver/energy_balance.h"
 #include "solver/exact_visibility.h"
+#include "solver/facet_bounds.h"
 #include "solver/form_factor.h"
 #include "solver/light_model.h"
 #include "solver/linear_solve.h"
@@ -73,31 +74,15 @@ struct Element {
   int root = -1;         // the root element of its tree
 };
 
-// Axis directions of the projected-area bins: +x, −x, +y, −y, +z, −z.
-using Bins = std::array<double, 6>;
-Bins projected_bins(const Vector3& n, double area) {
-  Bins b{};
-  const double c[3] = {n.x, n.y, n.z};
-  for (int a = 0; a < 3; ++a) (c[a] > 0 ? b[2 * a] : b[2 * a + 1]) = area * std::abs(c[a]);
-  return b;
-}
-
-struct Cluster {
-  Bounds3 box;
+// A node of the BVH over the roots. Its FacetBounds (box, bins, area vector, normal cone) cover its
+// roots.
+struct Cluster : FacetBounds {
   Point3 centre;
   double radius = 0;
-  Bins projected{};          // Σ A (n·e_k)⁺ over its roots
-  // For bound_projected_area(): Σ A n over its roots, and a cone about `cone_axis` that holds their normals,
-  // of half-angle θ < 90° with sin θ = cone_sin (2 where the normals are not within a hemisphere's cone).
-  Vector3 area_vector{};
-  Vector3 cone_axis{};
-  double cone_sin = 2;
-  bool axis_normals = false;  // every root's normal is ± an axis: the bins are exact
   int child[2] = {-1, -1};   // clusters; both −1 for a BVH leaf
   int root = -1;             // the root element of a BVH leaf
   int first_root = 0, root_count = 0;  // range in Hierarchy::root_order
   int samples = -1;          // its first kTabledClusterSamples in Hierarchy::cluster_samples, or −1
-  double area = 0;           // of its roots
   int slot = -1;             // a BVH leaf: its root's index in Hierarchy::roots
 };
 
@@ -592,14 +577,6 @@ Hierarchy::ClusterSample cluster_sample(const Hierarchy& h, const Cluster& C, in
   return {visibility_sample(root.tri, k), root.normal};
 }
 
-// Σ_a |w_a| projected[bin_a] over the bins facing direction w: an upper bound of the area the cluster
-// shows in direction w, Σ A (n·w)⁺ over its roots, exact only where every normal lies in w's octant
-// or on an axis. A faceted sphere seen along a diagonal shows 1.7 times its disk in the bins.
-double binned_area(const Cluster& C, const Vector3& w) {
-  return std::abs(w.x) * C.projected[w.x > 0 ? 0 : 1] + std::abs(w.y) * C.projected[w.y > 0 ? 2 : 3] +
-         std::abs(w.z) * C.projected[w.z > 0 ? 4 : 5];
-}
-
 // Bounds of Σ A (n·w)⁺ over the roots of cluster c, added to [lower, upper]. A subtree whose normal
 // cone lies wholly in front of w's horizon adds its area vector · w, one wholly behind adds nothing,
 // and one with axis-aligned normals adds its bins, all exactly; only clusters whose normals straddle
@@ -625,42 +602,6 @@ void bound_projected_area(const Hierarchy& h, int c, const Vector3& w, int& budg
   }
 }
 constexpr int kProjectionBudget = 256;  // clusters descended into per bound_projected_area
-
-// Whether some root of cluster C may face some point of `receiver` (a box), which lies along
-// directions within δ of w (unit, from C; sin δ given): false only where none can. A pair of bounding
-// spheres whose radii sum to `scale`, centres d apart, see each other along directions within
-// δ = asin(scale/d) of the line between the centres, and a cluster's projected area along that line
-// alone says nothing of them: a floor seen edge-on from the cluster's centre shows no area along it,
-// yet a receiver above part of the floor sees that part.
-bool may_face(const Cluster& C, const Vector3& w, double sin_delta, const Bounds3& receiver) {
-  if (C.axis_normals) {
-    // A root facing +e_a faces some direction of the cone iff w_a > −sin δ, and some point of the
-    // receiver only if the receiver reaches above the cluster's lowest point along e_a.
-    const double wa[3] = {w.x, w.y, w.z};
-    const double lo[3] = {C.box.lo.x, C.box.lo.y, C.box.lo.z}, hi[3] = {C.box.hi.x, C.box.hi.y, C.box.hi.z};
-    const double r_lo[3] = {receiver.lo.x, receiver.lo.y, receiver.lo.z};
-    const double r_hi[3] = {receiver.hi.x, receiver.hi.y, receiver.hi.z};
-    for (int a = 0; a < 3; ++a)
-      if ((C.projected[2 * a] > 0 && wa[a] > -sin_delta && r_hi[a] > lo[a]) ||
-          (C.projected[2 * a + 1] > 0 && -wa[a] > -sin_delta && r_lo[a] < hi[a]))
-        return true;
-    return false;
-  }
-  if (C.cone_sin > 1) return true;
-  const double alpha = std::acos(std::clamp(dot(C.cone_axis, w), -1.0, 1.0));
-  return alpha - std::asin(C.cone_sin) - std::asin(std::min(1.0, sin_delta)) < kPi / 2;
-}
-
-// The largest area cluster C shows in any direction, Σ A (n·u)⁺ ≤ Σ_a |u_a| max(bin +a, bin −a),
-// at most the norm of those three maxima (Cauchy–Schwarz, |u| = 1).
-double max_projected(const Cluster& C) {
-  double sum = 0;
-  for (int a = 0; a < 3; ++a) {
-    const double most = std::max(C.projected[2 * a], C.projected[2 * a + 1]);
-    sum += most * most;
-  }
-  return std::sqrt(sum);
-}
 
 // How a link to cluster c from direction w (unit, from the cluster) reads its projected power Φ: the
 // three bins facing w, weighted so that a cluster of uniform radiosity B sends B × `projected` (the
@@ -1251,42 +1192,23 @@ Reciprocity reciprocity_error(const Hierarchy& h) {
 int build_clusters(Hierarchy& h, int first, int count) {
   const int index = static_cast<int>(h.clusters.size());
   h.clusters.emplace_back();
-  Bounds3 box, centroids;
-  Bins projected{};
-  Vector3 area_vector{};
-  double area = 0;
+  FacetBounds facets;
+  Bounds3 centroids;
   for (int k = first; k < first + count; ++k) {
     const Element& e = h.elements[h.root_order[k]];
-    for (const Point3& p : e.tri.v) box.add(p);
+    facets.add(e.tri, e.normal, e.area);
     centroids.add(e.centre);
-    const Bins b = projected_bins(e.normal, e.area);
-    for (int q = 0; q < 6; ++q) projected[q] += b[q];
-    area_vector = area_vector + e.area * e.normal;
-    area += e.area;
   }
+  facets.fit_cone([&](auto&& f) {
+    for (int k = first; k < first + count; ++k) f(h.elements[h.root_order[k]].normal);
+  });
   {
     Cluster& c = h.clusters[index];
-    c.box = box;
-    c.centre = box.center();
-    c.radius = 0.5 * length(box.diagonal());
-    c.projected = projected;
-    c.area_vector = area_vector;
-    c.area = area;
+    static_cast<FacetBounds&>(c) = facets;
+    c.centre = facets.box.center();
+    c.radius = 0.5 * length(facets.box.diagonal());
     c.first_root = first;
     c.root_count = count;
-    // The normal cone about the mean normal; none where the normals nearly cancel (a closed object).
-    if (length(area_vector) > 1e-6 * area) {
-      c.cone_axis = normalize(area_vector);
-      double min_cos = 1;
-      for (int k = first; k < first + count; ++k) min_cos = std::min(min_cos, dot(h.elements[h.root_order[k]].normal, c.cone_axis));
-      if (min_cos > 0) c.cone_sin = std::sqrt(std::max(0.0, 1 - min_cos * min_cos));
-    }
-    c.axis_normals = true;
-    for (int k = first; k < first + count && c.axis_normals; ++k) {
-      const Vector3& n = h.elements[h.root_order[k]].normal;
-      constexpr double kOffAxis = 1e-9;  // the bins then err by less than this, relative
-      c.axis_normals = (std::abs(n.x) > kOffAxis) + (std::abs(n.y) > kOffAxis) + (std::abs(n.z) > kOffAxis) == 1;
-    }
   }
   if (count == 1) {
     h.clusters[index].root = h.root_order[first];
