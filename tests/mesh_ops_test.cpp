@@ -733,6 +733,28 @@ TEST(MergeSliverRegions, StripsOfARectangleBecomeTheRectangle) {
   }
 }
 
+TEST(MergeSliverRegions, StripsWhoseSharedCornersDifferInTheLastBitsJoinWhole) {
+  // Each strip with its own four corners (a triangle soup, as exports and SceneBuilder make them),
+  // the next strip's near corners moved by an ulp from this strip's far ones, as separately computed
+  // sums leave them. The exact union would keep those gaps as cuts; within the tolerance they weld.
+  TriangleMesh mesh;
+  const int n = 60;
+  for (int i = 0; i < n; ++i) {
+    const double x0 = 4.0 * i / n, x1 = std::nextafter(4.0 * (i + 1) / n, i % 2 ? 0.0 : 10.0);
+    const int base = static_cast<int>(mesh.vertices.size());
+    mesh.vertices.push_back({x0, 0, 0});
+    mesh.vertices.push_back({x1, 0, 0});
+    mesh.vertices.push_back({x1, 2.5, 0});
+    mesh.vertices.push_back({x0, 2.5, 0});
+    mesh.triangles.push_back({base, base + 1, base + 2});
+    mesh.triangles.push_back({base, base + 2, base + 3});
+  }
+  const SliverMerge r = merge_sliver_regions(mesh);
+  EXPECT_EQ(r.regions, 1u);
+  EXPECT_EQ(r.mesh.triangles.size(), 2u);
+  EXPECT_NEAR(mesh_area(r.mesh), 10.0, 1e-12);
+}
+
 TEST(MergeSliverRegions, AHoleStaysAHoleAndOtherPlanesAreUntouched) {
   // Strips around a 1 × 1 hole (four strip fields framing it) and, in another plane, a plain quad.
   TriangleMesh mesh;
