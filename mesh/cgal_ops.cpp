@@ -438,14 +438,15 @@ Loop2d without_collinear_vertices(Loop2d loop, double eps) {
 }
 
 // Moves each 2D point that lies within eps of a point seen before onto that point. Strips whose
-// shared corners were computed separately differ there in the last bits (1e-16 m at the origin), and
-// their exact union keeps such a gap as a cut: a wall of 60 strips came out as 11 pieces. Far from
-// the origin the same corners round to one double, so without this the two placements were meshed
-// differently (x ≈ 5e5, y ≈ 5.5e6 m: 2 pieces).
+// shared corners were computed separately differ there in the last bits (1e-16 m at the origin),
+// and their exact union keeps such a gap as a cut: a wall of 60 strips came out as up to 13 pieces.
+// Far from the origin the same corners round to one double, so without this the two placements
+// were meshed differently (x ≈ 5e5, y ≈ 5.5e6 m: 1 piece).
 class PointWelder {
  public:
   explicit PointWelder(double eps) : eps_(eps) {}
   Point2d operator()(const Point2d& p) {
+    if (!(eps_ > 0)) return p;  // a tolerance of 0: nothing to weld (and no cells to divide into)
     const std::int64_t cx = cell(p[0]), cy = cell(p[1]);
     for (std::int64_t dx = -1; dx <= 1; ++dx)
       for (std::int64_t dy = -1; dy <= 1; ++dy) {
