@@ -1608,6 +1608,30 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
             closed[i] = hemisphere_is_closed(h.elements[h.leaves[i]], i, rays, vis, occluder_normals, occluder_two_sided);
         });
       }
+      // Leaves inside closed solids (3: every probe ray met a back face, e.g. the floor under a crate)
+      // exchange no light with the scene, as in the dense solver, which links no such pair. Here the
+      // links were found before the probe, by rays that can slip through a solid's seams (the fast
+      // BVH): a 6 mm room with a crate, ρ = 0.999, had 245 leaf links between the floor under the
+      // crate and the walls, and a furnace 0.34 % low. Element links into or out of elements whose
+      // leaves are all enclosed are zeroed, each round (later rounds may refine them again).
+      {
+        std::vector<char> enclosed(h.elements.size(), 0);
+        for (std::size_t e = h.elements.size(); e-- > 0;) {
+          const Element& el = h.elements[e];
+          if (el.first_child < 0) {
+            enclosed[e] = closed[static_cast<std::size_t>(el.leaf)] == 3;
+          } else {
+            enclosed[e] = 1;
+            for (int k = 0; k < 4; ++k) enclosed[e] = enclosed[e] && enclosed[el.first_child + k];
+          }
+        }
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, h.links.size(), 4096), [&](const auto& range) {
+          for (std::size_t l = range.begin(); l != range.end(); ++l) {
+            Link& link = h.links[l];
+            if (enclosed[link.receiver] || (!link.from_cluster && enclosed[link.source])) link.coeff.fill(0.0f);
+          }
+        });
+      }
       // What each leaf sends: the radiosity of the last solve; before the first, the oracle's
       // estimate (M + ρ E_direct, and ρ times the mean interreflected irradiance), since a room lit
       // by an emitting panel has M + ρ E_direct = 0 on every reflector, whose columns would then be
