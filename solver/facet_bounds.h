@@ -32,7 +32,6 @@ struct FacetBounds {
   Vector3 cone_axis{};
   double cone_sin = 2;
   bool axis_normals = true;  // every normal is ± an axis: the bins are exact (false for an empty set)
-  bool empty = true;
 
   // Adds a triangle (its unit normal n and area given, as the caller has them).
   void add(const Triangle& t, const Vector3& n, double a) {
@@ -43,14 +42,13 @@ struct FacetBounds {
     area += a;
     constexpr double kOffAxis = 1e-9;  // the bins then err by less than this, relative
     axis_normals = axis_normals && (std::abs(n.x) > kOffAxis) + (std::abs(n.y) > kOffAxis) + (std::abs(n.z) > kOffAxis) == 1;
-    empty = false;
   }
 
   // The normal cone about the mean normal, once every triangle is in: `each_normal(f)` calls f on
   // every unit normal again.
   template <class EachNormal>
   void fit_cone(EachNormal&& each_normal) {
-    if (empty) axis_normals = false;
+    if (box.empty()) axis_normals = false;
     if (!(length(area_vector) > 1e-6 * area)) return;
     cone_axis = normalize(area_vector);
     double min_cos = 1;
@@ -85,7 +83,7 @@ inline double max_projected(const FacetBounds& F) {
 // says nothing of them: a floor seen edge-on from its centre shows no area along it, yet a receiver
 // above part of the floor sees that part.
 inline bool may_face(const FacetBounds& F, const Vector3& w, double sin_delta, const Bounds3& receiver) {
-  if (F.empty) return false;
+  if (F.box.empty()) return false;
   if (F.axis_normals) {
     // A triangle facing +e_a faces some direction of the cone iff w_a > −sin δ, and some point of
     // the receiver only if the receiver reaches above the set's lowest point along e_a.

@@ -1516,6 +1516,7 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
       }
     };
     ExchangeCache exchange;
+    std::vector<char> enclosed;  // per element: every leaf below lies inside a closed solid (round 0's probe)
     for (int round = 0; round < kRefineRounds; ++round) {
       // ---- links (form factors) ----
       auto t1 = Clock::now();
@@ -1614,8 +1615,8 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
       // BVH): a 6 mm room with a crate, ρ = 0.999, had 245 leaf links between the floor under the
       // crate and the walls, and a furnace 0.34 % low. Element links into or out of elements whose
       // leaves are all enclosed are zeroed, each round (later rounds may refine them again).
-      {
-        std::vector<char> enclosed(h.elements.size(), 0);
+      if (round == 0) {
+        enclosed.assign(h.elements.size(), 0);
         for (std::size_t e = h.elements.size(); e-- > 0;) {
           const Element& el = h.elements[e];
           if (el.first_child < 0) {
@@ -1625,13 +1626,13 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
             for (int k = 0; k < 4; ++k) enclosed[e] = enclosed[e] && enclosed[el.first_child + k];
           }
         }
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, h.links.size(), 4096), [&](const auto& range) {
-          for (std::size_t l = range.begin(); l != range.end(); ++l) {
-            Link& link = h.links[l];
-            if (enclosed[link.receiver] || (!link.from_cluster && enclosed[link.source])) link.coeff.fill(0.0f);
-          }
-        });
       }
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, h.links.size(), 4096), [&](const auto& range) {
+        for (std::size_t l = range.begin(); l != range.end(); ++l) {
+          Link& link = h.links[l];
+          if (enclosed[link.receiver] || (!link.from_cluster && enclosed[link.source])) link.coeff.fill(0.0f);
+        }
+      });
       // What each leaf sends: the radiosity of the last solve; before the first, the oracle's
       // estimate (M + ρ E_direct, and ρ times the mean interreflected irradiance), since a room lit
       // by an emitting panel has M + ρ E_direct = 0 on every reflector, whose columns would then be

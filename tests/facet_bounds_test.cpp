@@ -97,52 +97,51 @@ double shown(const std::vector<Facet>& facets, const Vector3& w) {
   return sum;
 }
 
+// Calls check(kind, trial, facets, bounds) on `trials` random sets of each kind, of 1 to `sizes`
+// triangles.
+template <class Check>
+void for_each_random_set(RandomFacets& random, int trials, int sizes, Check&& check) {
+  for (Kind kind : {Kind::Cone, Kind::Axes, Kind::Anywhere})
+    for (int trial = 0; trial < trials; ++trial) {
+      const std::vector<Facet> facets = random.set(kind, 1 + trial % sizes, 1.0);
+      check(kind, trial, facets, bounds_of(facets));
+    }
+}
+
 TEST(FacetBounds, BinsBoundTheAreaShownAndAreExactForAxisNormals) {
   RandomFacets random(1);
-  for (Kind kind : {Kind::Cone, Kind::Axes, Kind::Anywhere}) {
-    for (int trial = 0; trial < 100; ++trial) {
-      const std::vector<Facet> facets = random.set(kind, 1 + trial % 17, 1.0);
-      const FacetBounds F = bounds_of(facets);
-      EXPECT_EQ(F.axis_normals, kind == Kind::Axes);
-      for (int k = 0; k < 50; ++k) {
-        const Vector3 w = random.direction();
-        const double exact = shown(facets, w), binned = binned_area(F, w);
-        ASSERT_GE(binned, exact * (1 - 1e-12)) << trial;
-        if (kind == Kind::Axes) {
-          ASSERT_NEAR(binned, exact, 1e-12 * F.area) << trial;
-        }
+  for_each_random_set(random, 100, 17, [&](Kind kind, int trial, const std::vector<Facet>& facets, const FacetBounds& F) {
+    EXPECT_EQ(F.axis_normals, kind == Kind::Axes);
+    for (int k = 0; k < 50; ++k) {
+      const Vector3 w = random.direction();
+      const double exact = shown(facets, w), binned = binned_area(F, w);
+      ASSERT_GE(binned, exact * (1 - 1e-12)) << trial;
+      if (kind == Kind::Axes) {
+        ASSERT_NEAR(binned, exact, 1e-12 * F.area) << trial;
       }
     }
-  }
+  });
 }
 
 TEST(FacetBounds, MaxProjectedBoundsEveryDirectionAndIsExactForOneTriangle) {
   RandomFacets random(2);
-  for (Kind kind : {Kind::Cone, Kind::Axes, Kind::Anywhere}) {
-    for (int trial = 0; trial < 100; ++trial) {
-      const std::vector<Facet> facets = random.set(kind, 1 + trial % 17, 1.0);
-      const FacetBounds F = bounds_of(facets);
-      double most = shown(facets, facets[0].normal);
-      for (int k = 0; k < 400; ++k) most = std::max(most, shown(facets, random.direction()));
-      ASSERT_GE(max_projected(F) * (1 + 1e-12), most) << trial;
-      if (facets.size() == 1) {
-        ASSERT_NEAR(max_projected(F), facets[0].area, 1e-12 * facets[0].area);
-      }
+  for_each_random_set(random, 100, 17, [&](Kind, int trial, const std::vector<Facet>& facets, const FacetBounds& F) {
+    double most = shown(facets, facets[0].normal);
+    for (int k = 0; k < 400; ++k) most = std::max(most, shown(facets, random.direction()));
+    ASSERT_GE(max_projected(F) * (1 + 1e-12), most) << trial;
+    if (facets.size() == 1) {
+      ASSERT_NEAR(max_projected(F), facets[0].area, 1e-12 * facets[0].area);
     }
-  }
+  });
 }
 
 TEST(FacetBounds, ConeHoldsEveryNormal) {
   RandomFacets random(3);
-  for (Kind kind : {Kind::Cone, Kind::Axes, Kind::Anywhere}) {
-    for (int trial = 0; trial < 200; ++trial) {
-      const std::vector<Facet> facets = random.set(kind, 1 + trial % 9, 1.0);
-      const FacetBounds F = bounds_of(facets);
-      if (F.cone_sin > 1) continue;
-      const double cos_theta = std::sqrt(1 - F.cone_sin * F.cone_sin);
-      for (const Facet& f : facets) ASSERT_GE(dot(f.normal, F.cone_axis), cos_theta - 1e-12);
-    }
-  }
+  for_each_random_set(random, 200, 9, [&](Kind, int, const std::vector<Facet>& facets, const FacetBounds& F) {
+    if (F.cone_sin > 1) return;
+    const double cos_theta = std::sqrt(1 - F.cone_sin * F.cone_sin);
+    for (const Facet& f : facets) ASSERT_GE(dot(f.normal, F.cone_axis), cos_theta - 1e-12);
+  });
   // A cone of normals within 0.5 rad of each other is found as one.
   RandomFacets narrow(4);
   int found = 0;
@@ -159,43 +158,39 @@ TEST(FacetBounds, ConeHoldsEveryNormal) {
 TEST(FacetBounds, MayFaceIsFalseOnlyWhereNoTriangleFacesTheReceiver) {
   RandomFacets random(5);
   int dropped[3] = {0, 0, 0}, trials[3] = {0, 0, 0};
-  for (Kind kind : {Kind::Cone, Kind::Axes, Kind::Anywhere}) {
-    for (int trial = 0; trial < 2000; ++trial) {
-      const int k = static_cast<int>(kind);
-      const std::vector<Facet> facets = random.set(kind, 1 + trial % 7, 1.0);
-      const FacetBounds F = bounds_of(facets);
-      const Point3 c_centre = F.box.center();
-      const double c_radius = 0.5 * length(F.box.diagonal());
-      // A receiver box of random shape (flat ones included: a receiving triangle's box).
-      const Vector3 half{random.uniform(0, 0.6), random.uniform(0, 0.6), random.uniform(0, 0.6)};
-      const double r_radius = length(half);
-      const double d = random.uniform(1.5, 5) * (c_radius + r_radius);
-      const Vector3 w = random.direction();
-      const Point3 r_centre = c_centre + w * d;
-      Bounds3 receiver;
-      receiver.add(r_centre - half);
-      receiver.add(r_centre + half);
-      const double sin_delta = (c_radius + r_radius) / d;
-      ++trials[k];
-      if (may_face(F, w, sin_delta, receiver)) continue;
-      ++dropped[k];
-      std::vector<Point3> q = {r_centre};
-      for (int c = 0; c < 8; ++c)
-        q.push_back({c & 1 ? receiver.hi.x : receiver.lo.x, c & 2 ? receiver.hi.y : receiver.lo.y,
-                     c & 4 ? receiver.hi.z : receiver.lo.z});
-      for (int s = 0; s < 20; ++s)
-        q.push_back({random.uniform(receiver.lo.x, receiver.hi.x), random.uniform(receiver.lo.y, receiver.hi.y),
-                     random.uniform(receiver.lo.z, receiver.hi.z)});
-      for (const Facet& f : facets) {
-        const Point3* v = f.tri.v.data();
-        const Point3 p[7] = {v[0], v[1], v[2], barycentric(v[0], v[1], v[2], 0.5, 0.5, 0),
-                             barycentric(v[0], v[1], v[2], 0, 0.5, 0.5), barycentric(v[0], v[1], v[2], 0.5, 0, 0.5),
-                             f.tri.centroid()};
-        for (const Point3& a : p)
-          for (const Point3& b : q) ASSERT_LE(dot(f.normal, b - a), 1e-12 * d) << "kind " << k << " trial " << trial;
-      }
+  for_each_random_set(random, 2000, 7, [&](Kind kind, int trial, const std::vector<Facet>& facets, const FacetBounds& F) {
+    const int k = static_cast<int>(kind);
+    const Point3 c_centre = F.box.center();
+    const double c_radius = 0.5 * length(F.box.diagonal());
+    // A receiver box of random shape (flat ones included: a receiving triangle's box).
+    const Vector3 half{random.uniform(0, 0.6), random.uniform(0, 0.6), random.uniform(0, 0.6)};
+    const double r_radius = length(half);
+    const double d = random.uniform(1.5, 5) * (c_radius + r_radius);
+    const Vector3 w = random.direction();
+    const Point3 r_centre = c_centre + w * d;
+    Bounds3 receiver;
+    receiver.add(r_centre - half);
+    receiver.add(r_centre + half);
+    const double sin_delta = (c_radius + r_radius) / d;
+    ++trials[k];
+    if (may_face(F, w, sin_delta, receiver)) return;
+    ++dropped[k];
+    std::vector<Point3> q = {r_centre};
+    for (int c = 0; c < 8; ++c)
+      q.push_back({c & 1 ? receiver.hi.x : receiver.lo.x, c & 2 ? receiver.hi.y : receiver.lo.y,
+                   c & 4 ? receiver.hi.z : receiver.lo.z});
+    for (int s = 0; s < 20; ++s)
+      q.push_back({random.uniform(receiver.lo.x, receiver.hi.x), random.uniform(receiver.lo.y, receiver.hi.y),
+                   random.uniform(receiver.lo.z, receiver.hi.z)});
+    for (const Facet& f : facets) {
+      const Point3* v = f.tri.v.data();
+      const Point3 p[7] = {v[0], v[1], v[2], barycentric(v[0], v[1], v[2], 0.5, 0.5, 0),
+                           barycentric(v[0], v[1], v[2], 0, 0.5, 0.5), barycentric(v[0], v[1], v[2], 0.5, 0, 0.5),
+                           f.tri.centroid()};
+      for (const Point3& a : p)
+        for (const Point3& b : q) ASSERT_LE(dot(f.normal, b - a), 1e-12 * d) << "kind " << k << " trial " << trial;
     }
-  }
+  });
   // Not vacuous: sets with a cone or axis normals drop a fair share of the pairs.
   EXPECT_GT(dropped[0], trials[0] / 10);
   EXPECT_GT(dropped[1], trials[1] / 20);
