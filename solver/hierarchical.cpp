@@ -152,6 +152,11 @@ class Hierarchy {
   std::vector<ClusterLink> cluster_links;
   std::vector<std::size_t> cluster_link_start;  // CSR over receiving clusters
   std::vector<char> links_below;  // cluster c or one below it receives cluster links
+  // Per element: every leaf below lies inside a closed solid (the hemisphere probe's 3; e.g. floor
+  // under a crate). Such elements take no links, and roots that are wholly enclosed are left out of
+  // the clusters, so that they neither send nor receive through them. Empty: none known.
+  std::vector<char> enclosed;
+  bool is_enclosed(int e) const { return !enclosed.empty() && enclosed[e]; }
   // Closure scaling (see balance()): the operator applied is F' = D_r F D_c, with D_r = leaf_scale on
   // the gathered irradiance (rows) and D_c = source_scale on the radiosity shot (columns).
   std::vector<double> leaf_scale;
@@ -775,7 +780,9 @@ class Refiner {
   void refine_to_element(int r, int s, LinkBatch& out) const {
     const Element& R = h_.elements[r];
     const Element& S = h_.elements[s];
-    if (r == s || !any_in_front(R.tri, R.normal, S.tri) || !any_in_front(S.tri, S.normal, R.tri)) return;
+    if (r == s || h_.is_enclosed(r) || h_.is_enclosed(s) || !any_in_front(R.tri, R.normal, S.tri) ||
+        !any_in_front(S.tri, S.normal, R.tri))
+      return;
     if (!h_.has_children(r) && !h_.has_children(s)) return link_leaves(r, s, out);
     const double B = element_B_[s];
     // The point kernel at the receiver's degree-5 nodes and next to its corners (it peaks at edges
@@ -843,6 +850,7 @@ class Refiner {
   }
 
   void refine_to_cluster(int r, int c, LinkBatch& out) const {
+    if (h_.is_enclosed(r)) return;
     const Element& R = h_.elements[r];
     const Cluster& C = h_.clusters[c];
     if (C.root >= 0) return refine_to_element(r, C.root, out);
@@ -1353,10 +1361,6 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
   }
   const std::size_t N = h.leaves.size();
   check_patch_count(static_cast<double>(N), false, kMaxHierarchicalPatches, control);
-  h.root_order = h.roots;
-  if (!h.roots.empty()) build_clusters(h, 0, static_cast<int>(h.roots.size()));
-  for (int root : h.root_order) h.ordered_roots.push_back({h.elements[root].tri, h.elements[root].normal});
-  table_cluster_samples(h);
   sol.patches = leaf_patches();
   sol.stats.patches = N;
   sol.stats.time_meshing_s = seconds_since(t0);
@@ -1414,7 +1418,45 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
   check_cancel(control);
   report(0.1);
 
+  const bool need_links = any_emitter || (any_reflector && !sources.empty());
+  // ---- hemisphere probe per leaf, then the clusters over the roots that are not wholly enclosed ----
+  // Leaves inside closed solids (3: every probe ray met a back face, e.g. the floor under a crate)
+  // exchange no light with the scene, as in the dense solver, which links no such pair. They are
+  // found before any link: rays between elements can slip through a solid's seams (the fast BVH),
+  // and a 6 mm room with a crate, ρ = 0.999, had 245 leaf links between the floor under the crate
+  // and the walls (a furnace 0.34 % low), and clusters holding such roots sent their radiosity on.
+  t0 = Clock::now();
+  std::vector<char> closed(N, 0);  // per leaf: 1 closed hemisphere, 2 leaking, 3 enclosed (hemisphere_is_closed)
+  if (need_links && N > 0) {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, N, 16), [&](const auto& range) {
+      const int rays = static_cast<int>(std::clamp<std::size_t>(4000000 / std::max<std::size_t>(N, 1), 64, 1024));
+      for (std::size_t i = range.begin(); i != range.end(); ++i)
+        closed[i] = hemisphere_is_closed(h.elements[h.leaves[i]], i, rays, vis, occluder_normals, occluder_two_sided);
+    });
+    if (std::find(closed.begin(), closed.end(), 3) != closed.end()) {
+      h.enclosed.assign(h.elements.size(), 0);
+      for (std::size_t e = h.elements.size(); e-- > 0;) {  // children come after their parent
+        const Element& el = h.elements[e];
+        if (el.first_child < 0) {
+          h.enclosed[e] = closed[static_cast<std::size_t>(el.leaf)] == 3;
+        } else {
+          h.enclosed[e] = 1;
+          for (int k = 0; k < 4; ++k) h.enclosed[e] = h.enclosed[e] && h.enclosed[el.first_child + k];
+        }
+      }
+    }
+  }
+  for (int root : h.roots)
+    if (!h.is_enclosed(root)) h.root_order.push_back(root);
+  if (!h.root_order.empty()) build_clusters(h, 0, static_cast<int>(h.root_order.size()));
+  for (int root : h.root_order) h.ordered_roots.push_back({h.elements[root].tri, h.elements[root].normal});
+  table_cluster_samples(h);
+  const double time_probe = seconds_since(t0);
+
   // ---- spectral systems: one per distinct (reflectance column, right-hand side) ----
+  // Leaves inside closed solids are not unknowns: with no links their B is M + ρ E_direct (set on
+  // output), and solved for, a bright one would set the scale of the relative residual and leave the
+  // scene unconverged. Their b is 0 here.
   // Key: ρ over materials, emission over surfaces and the spectrum of every direct source at λ; the
   // right-hand side b = M + ρ E_direct is a function of exactly these.
   std::vector<RadiositySystem> systems;
@@ -1433,7 +1475,7 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
         sys.b.resize(N);
         for (std::size_t i = 0; i < N; ++i) {
           sys.rho[i] = rho[i * W + w];
-          sys.b[i] = M[i * W + w] + rho[i * W + w] * E_direct[i * W + w];
+          sys.b[i] = closed[i] == 3 ? 0 : M[i * W + w] + rho[i * W + w] * E_direct[i * W + w];
         }
         sys.x = sys.b;
       }
@@ -1441,7 +1483,6 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
     }
   }
   const std::size_t K = systems.size();
-  const bool need_links = any_emitter || (any_reflector && !sources.empty());
   // Per leaf: whether it emits at some wavelength, and whether it sends anything at all (emits or
   // reflects); one that does not is black and keeps B = 0 whatever it receives.
   std::vector<char> emits(N, 0), shoots(N, 0);
@@ -1451,7 +1492,6 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
       shoots[i] = shoots[i] || emits[i] || rho[i * W + w] != 0;
     }
 
-  std::vector<char> closed(N, 0);  // per leaf: 1 closed hemisphere, 2 leaking (hemisphere_is_closed)
   // Radiosity for the oracle: per leaf the largest |B| over the systems, pulled up (area mean per
   // element, max per cluster).
   auto oracle_values = [&](const std::vector<double>& leaf_B, std::vector<double>& element_B,
@@ -1474,6 +1514,7 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
     std::vector<double> leaf_B(N, 0.0);
     double power = 0, area = 0, rho_mean = 0;
     for (std::size_t i = 0; i < N; ++i) {
+      if (closed[i] == 3) continue;  // enclosed: neither part of the scene's power nor of its area
       for (const auto& sys : systems) leaf_B[i] = std::max(leaf_B[i], std::abs(sys.x[i]));
       power += sol.patches[i].area_m2 * leaf_B[i];
       area += sol.patches[i].area_m2;
@@ -1499,14 +1540,16 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
     if (!with_ambient && area > 0 && std::find(closed.begin(), closed.end(), 1) != closed.end())
       for (std::size_t i = 0; i < N; ++i)
         if (!shoots[i]) leaf_B[i] = power / area;
+    for (std::size_t i = 0; i < N; ++i)
+      if (closed[i] == 3) leaf_B[i] = 0;
     return std::pair{leaf_B, power};
   };
 
-  double total_area = 0;
-  for (const Patch& p : sol.patches) total_area += p.area_m2;
+  double total_area = 0;  // of the leaves that are not enclosed
+  for (std::size_t i = 0; i < N; ++i) total_area += closed[i] == 3 ? 0 : sol.patches[i].area_m2;
   h.leaf_scale.assign(N, 1.0);
   h.source_scale.assign(N, 1.0);
-  double time_links = 0, time_solve = 0;
+  double time_links = time_probe, time_solve = 0;
   if (need_links && N > 0) {
     const double accuracy = scene.solver.accuracy;
     auto gather_all = [&](const std::vector<const double*>& V, const std::vector<double*>& FV) {
@@ -1516,7 +1559,6 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
       }
     };
     ExchangeCache exchange;
-    std::vector<char> enclosed;  // per element: every leaf below lies inside a closed solid (round 0's probe)
     for (int round = 0; round < kRefineRounds; ++round) {
       // ---- links (form factors) ----
       auto t1 = Clock::now();
@@ -1602,37 +1644,6 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
       }
 
       // ---- closure: row sums of the links; closed leaves are scaled to 1 ----
-      if (round == 0) {
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, N, 16), [&](const auto& range) {
-          const int rays = static_cast<int>(std::clamp<std::size_t>(4000000 / std::max<std::size_t>(N, 1), 64, 1024));
-          for (std::size_t i = range.begin(); i != range.end(); ++i)
-            closed[i] = hemisphere_is_closed(h.elements[h.leaves[i]], i, rays, vis, occluder_normals, occluder_two_sided);
-        });
-      }
-      // Leaves inside closed solids (3: every probe ray met a back face, e.g. the floor under a crate)
-      // exchange no light with the scene, as in the dense solver, which links no such pair. Here the
-      // links were found before the probe, by rays that can slip through a solid's seams (the fast
-      // BVH): a 6 mm room with a crate, ρ = 0.999, had 245 leaf links between the floor under the
-      // crate and the walls, and a furnace 0.34 % low. Element links into or out of elements whose
-      // leaves are all enclosed are zeroed, each round (later rounds may refine them again).
-      if (round == 0) {
-        enclosed.assign(h.elements.size(), 0);
-        for (std::size_t e = h.elements.size(); e-- > 0;) {
-          const Element& el = h.elements[e];
-          if (el.first_child < 0) {
-            enclosed[e] = closed[static_cast<std::size_t>(el.leaf)] == 3;
-          } else {
-            enclosed[e] = 1;
-            for (int k = 0; k < 4; ++k) enclosed[e] = enclosed[e] && enclosed[el.first_child + k];
-          }
-        }
-      }
-      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, h.links.size(), 4096), [&](const auto& range) {
-        for (std::size_t l = range.begin(); l != range.end(); ++l) {
-          Link& link = h.links[l];
-          if (enclosed[link.receiver] || (!link.from_cluster && enclosed[link.source])) link.coeff.fill(0.0f);
-        }
-      });
       // What each leaf sends: the radiosity of the last solve; before the first, the oracle's
       // estimate (M + ρ E_direct, and ρ times the mean interreflected irradiance), since a room lit
       // by an emitting panel has M + ρ E_direct = 0 on every reflector, whose columns would then be
@@ -1685,7 +1696,7 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
   for (std::size_t i = 0; i < N; ++i)
     for (std::size_t w = 0; w < W; ++w) {
       const auto& sys = systems[wavelength_system[w]];
-      const double x = need_links ? sys.x[i] : sys.b[i];
+      const double x = !need_links ? sys.b[i] : closed[i] == 3 ? M[i * W + w] + rho[i * W + w] * E_direct[i * W + w] : sys.x[i];
       sol.radiosity[i * W + w] = keep_sign ? x : std::max(0.0, x);
       sol.irradiance[i * W + w] = gathered[wavelength_system[w]][i] + E_direct[i * W + w];
     }
@@ -1718,6 +1729,7 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
     }
     double power = 0, area = 0;
     for (std::size_t i = 0; i < N; ++i) {
+      if (closed[i] == 3) continue;  // enclosed: no part of what a probe can see
       power += sol.patches[i].area_m2 * std::max(std::abs(lo[h.leaves[i]]), std::abs(hi[h.leaves[i]]));
       area += sol.patches[i].area_m2;
     }
@@ -1740,7 +1752,7 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
                 vis, [&](int j) { return std::pair{from, vis.lift(visibility_sample(S.tri, j), S.normal)}; },
                 [&](const Point3&, const Point3& qq) { return link_weight(p, n, qq, S.normal); }, 16);
           };
-          stack.assign(1, -1);  // −1 − c: cluster c; ≥ 0: element
+          stack.assign(h.clusters.empty() ? 0 : 1, -1);  // −1 − c: cluster c; ≥ 0: element
           while (!stack.empty()) {
             const int node = stack.back();
             stack.pop_back();

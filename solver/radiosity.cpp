@@ -772,11 +772,13 @@ Solution solve_dense(const Scene& scene, const SolveControl& control, const std:
     for (std::size_t m = 0; m < key.size(); ++m) key[m] = scene.materials[m].reflectance[w];
     groups[key].push_back(w);
   }
-  // Unknowns: patches that reflect at some wavelength. Patches black at every wavelength keep B = M
-  // and are not iterated over; their emission enters the right-hand sides.
+  // Unknowns: patches that reflect at some wavelength and exchange light with the scene. Patches black
+  // at every wavelength keep B = M and are not iterated over; their emission enters the right-hand
+  // sides. Patches inside closed solids (no factors) keep B = M + ρ E_direct: iterated over, a bright
+  // one would set the scale of the solver's relative residual and leave the room unconverged.
   std::vector<int> active;
   for (std::size_t i = 0; i < N && need_factors; ++i)
-    for (std::size_t w = 0; w < W; ++w)
+    for (std::size_t w = 0; w < W && closed[i] != 3; ++w)
       if (rho[i * W + w] > 0) {
         active.push_back(static_cast<int>(i));
         break;
@@ -787,7 +789,10 @@ Solution solve_dense(const Scene& scene, const SolveControl& control, const std:
   for (std::size_t set = 0; set < sets.size(); ++set)
     for (std::size_t i = 0; i < N; ++i)
       if (!is_active[i])
-        for (std::size_t w = 0; w < W; ++w) set_radiosity[set][i * W + w] = (*sets[set].first)[i * W + w];
+        for (std::size_t w = 0; w < W; ++w) {
+          const std::size_t k = i * W + w;
+          set_radiosity[set][k] = (*sets[set].first)[k] + rho[k] * (*sets[set].second)[k];
+        }
   if (n > 0) {
     // F restricted to the unknowns (a copy only when some patches are black everywhere).
     std::vector<double> compact;

@@ -249,9 +249,9 @@ TEST(HardCases, FurnaceWithACrateStandingOnTheFloor) {
 
 TEST(HardCases, FurnaceWithACrateIsExactAtEveryScale) {
   // The crate above (no bottom) at millimetre and kilometre scale, hierarchical. The floor under the
-  // crate is enclosed and must exchange nothing, but its leaves' links to the walls are found by
-  // rays before the enclosure probe, and some rays slip through the crate's seams: until such links
-  // were zeroed this test failed at 1e3, and a 6 mm L-shaped room's furnace was 0.34 % low.
+  // crate is enclosed and must exchange nothing, but some rays between elements slip through the
+  // crate's seams: while its leaves were linked before the enclosure probe ran, this test failed at
+  // 1e3, and a 6 mm L-shaped room's furnace was 0.34 % low.
   for (double scale : {1e-3, 1e3}) {
     SceneBuilder b;
     const int grey = b.material("grey", 0.999);

@@ -222,6 +222,43 @@ TEST(Hierarchical, AgreesWithDenseSolver) {
   EXPECT_LT(hier.stats.links, dense.stats.links);
 }
 
+// A strong emitter sealed inside a closed box (whose faces all face out) sends nothing into the room:
+// it links with nothing, must not pass its radiosity on through clusters that hold it (hierarchical),
+// and must not set the scale of the solver's relative residual (both methods: the room was left
+// unconverged, 30 % off) or of the oracle. Second method: the same room without the sealed emitter,
+// patch by patch, for a black and a reflecting emitter.
+TEST(Hierarchical, AnEmitterSealedInsideABoxSendsNothingUnderEitherMethod) {
+  for (SolverMethod method : {SolverMethod::Dense, SolverMethod::Hierarchical}) {
+    auto room = [&](int sealed_material) {
+      SceneBuilder b = lit_room(0.1);
+      b.surface("safe", 0, box({4, 2.5, 0.5}, {5, 3.5, 1.2}, false));
+      if (sealed_material >= 0)
+        b.surface("inside", sealed_material, rectangle({4.2, 2.7, 0.6}, {0.6, 0, 0}, {0, 0.6, 0}), 1000 * kPi);
+      b.scene().solver.method = method;
+      return solve(b.scene());
+    };
+    const Solution plain = room(-1);
+    for (int sealed_material : {0, 1}) {  // lit_room's "wall" (ρ = 0.5) and "black"
+      const Solution sealed = room(sealed_material);
+      const std::string what = (method == SolverMethod::Dense ? "dense, " : "hierarchical, ") +
+                               std::string(sealed_material == 0 ? "reflecting" : "black");
+      ASSERT_EQ(sealed.patches.size(), plain.patches.size()) << what;  // the sealed patches are left out
+      EXPECT_GT(sealed.stats.enclosed_patches, plain.stats.enclosed_patches) << what;
+      double mean = 0;
+      for (double v : plain.radiosity) mean += v / plain.radiosity.size();
+      double worst = 0;
+      for (std::size_t i = 0; i < plain.radiosity.size(); ++i)
+        worst = std::max(worst, std::abs(sealed.radiosity[i] - plain.radiosity[i]) / mean);
+      EXPECT_LT(worst, 1e-3) << what;
+      for (std::size_t p = 0; p < plain.probes.size(); ++p)
+        EXPECT_NEAR(sealed.probes[p].irradiance[0], plain.probes[p].irradiance[0],
+                    1e-3 * plain.probes[p].irradiance[0])
+            << what << ", probe " << p;
+      EXPECT_LT(std::abs(sealed.stats.relative_imbalance), 1e-6) << what;
+    }
+  }
+}
+
 TEST(Hierarchical, EnergyCertificateBalancesInAnOpenRoom) {
   // The lit room without its ceiling (open to the sky), ρ = 0.5: emitted = absorbed + escaped must
   // hold to the solver's tolerance, with escape counted from the column sums of the transposed
