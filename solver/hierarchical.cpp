@@ -86,14 +86,30 @@ struct Cluster : FacetBounds {
   int slot = -1;             // a BVH leaf: its root's index in Hierarchy::roots
 };
 
+// A link's point on its element source (Link::bin): barycentric coordinates in 255ths.
+constexpr double kPointScale = 255;
+constexpr unsigned char kCentroid = 85;  // 1/3
+
 struct Link {
   int receiver = 0;          // element
   int source = 0;            // element or cluster
   bool from_cluster = false;
-  std::array<unsigned char, 3> bin{};
+  // Cluster source: the bins of Φ that the three weights apply to. Element source: bin[0], bin[1]
+  // are β1, β2 of the point y* where the link reads the source's radiosity (source_point), y* =
+  // ∫ f(y) y dA / ∫ f(y) dA with f(y) the factor from y to the receiver: exact for a radiosity linear
+  // over the source, and in the transpose the link's share of each of the source's leaves then has
+  // the kernel's first moment. The centroid where the kernel is about even. (One field for both
+  // keeps a link at 28 bytes: the 10⁶-triangle room has 182 M of them.)
+  std::array<unsigned char, 3> bin{kCentroid, kCentroid, 0};
   std::array<float, 3> coeff{};  // element source: F at the receiver's vertices (linear); cluster: weights of Φ_bin
   float error_per_B = 0;     // error bound of the factor: irradiance error per unit source radiosity
 };
+static_assert(sizeof(Link) == 28);
+// β0, β1, β2 of an element link's point on its source.
+std::array<double, 3> source_point(const Link& l) {
+  const double b1 = l.bin[0] / kPointScale, b2 = l.bin[1] / kPointScale;
+  return {1 - b1 - b2, b1, b2};
+}
 
 // A link into a cluster of roots whose normals all face the source (Refiner::refine_pair): it adds
 // Ψ × `toward` to the cluster's vector irradiance V, Ψ being the irradiance on a surface facing the
@@ -168,6 +184,9 @@ class Hierarchy {
   struct Values {
     std::size_t K = 0;
     std::vector<double> B;    // per element: area-mean radiosity
+    // Per element, 3 × K: the radiosity as a linear field over it, B + Σ_v D_v β_v (Σ_v D_v = 0),
+    // fitted to the means of its three corner children (0 for a leaf): D_v = 2 (m_v − (m_0 + m_1 + m_2)/3).
+    std::vector<double> D;
     std::vector<double> Phi;  // per cluster: 6 bins × K
   };
 
@@ -177,6 +196,7 @@ class Hierarchy {
     const std::size_t K = V.size();
     out.K = K;
     out.B.assign(elements.size() * K, 0.0);
+    out.D.assign(elements.size() * 3 * K, 0.0);
     out.Phi.assign(clusters.size() * 6 * K, 0.0);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, root_block.size(), 8), [&](const auto& range) {
       for (std::size_t r = range.begin(); r != range.end(); ++r) {
@@ -192,6 +212,12 @@ class Hierarchy {
               const double w = elements[el.first_child + c].area / el.area;
               const double* bc = &out.B[(el.first_child + c) * K];
               for (std::size_t k = 0; k < K; ++k) b[k] += w * bc[k];
+            }
+            const double* m = &out.B[el.first_child * K];  // the corner children 0, 1, 2 (kChildVertex)
+            double* d = &out.D[e * 3 * K];
+            for (std::size_t k = 0; k < K; ++k) {
+              const double corner_mean = (m[k] + m[K + k] + m[2 * K + k]) / 3;
+              for (int v = 0; v < 3; ++v) d[v * K + k] = 2 * (m[v * K + k] - corner_mean);
             }
           }
         }
@@ -221,8 +247,12 @@ class Hierarchy {
       const Link& link = links[l];
       if (!link.from_cluster) {
         const double* b = &v.B[link.source * K];
-        for (int n = 0; n < 3; ++n)
-          for (std::size_t k = 0; k < K; ++k) h[n * K + k] += link.coeff[n] * b[k];
+        const double* d = &v.D[link.source * 3 * K];
+        const auto at = source_point(link);
+        for (std::size_t k = 0; k < K; ++k) {
+          const double read = b[k] + at[0] * d[k] + at[1] * d[K + k] + at[2] * d[2 * K + k];
+          for (int n = 0; n < 3; ++n) h[n * K + k] += link.coeff[n] * read;
+        }
       } else {
         const double* phi = &v.Phi[link.source * 6 * K];
         for (std::size_t k = 0; k < K; ++k) {
@@ -340,11 +370,12 @@ class Hierarchy {
   void apply_transpose(const double* W, double* out) const {
     const std::size_t E = elements.size();
     std::vector<double> root_E_bar(roots.size(), 0.0);  // adjoint of cluster_field's root_E
-    tbb::enumerable_thread_specific<std::vector<double>> adjoints(std::vector<double>(E + 6 * clusters.size(), 0.0));
+    tbb::enumerable_thread_specific<std::vector<double>> adjoints(std::vector<double>(4 * E + 6 * clusters.size(), 0.0));
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, root_block.size(), 8), [&](const auto& range) {
       std::vector<double>& a = adjoints.local();
       double* B_bar = a.data();
       double* Phi_bar = a.data() + E;
+      double* D_bar = a.data() + E + 6 * clusters.size();
       std::vector<double> H;  // adjoint of the vertex irradiance, per element of the root's block
       for (std::size_t r = range.begin(); r != range.end(); ++r) {
         const auto [first, end] = root_block[r];
@@ -357,7 +388,10 @@ class Hierarchy {
           for (std::size_t l = link_start[e]; l < link_start[e + 1]; ++l) {
             const Link& link = links[l];
             if (!link.from_cluster) {
-              B_bar[link.source] += link.coeff[0] * h[0] + link.coeff[1] * h[1] + link.coeff[2] * h[2];
+              const double read_bar = link.coeff[0] * h[0] + link.coeff[1] * h[1] + link.coeff[2] * h[2];
+              B_bar[link.source] += read_bar;
+              const auto at = source_point(link);
+              for (int q = 0; q < 3; ++q) D_bar[3 * link.source + q] += at[q] * read_bar;
             } else {
               const double total = h[0] + h[1] + h[2];
               for (int k = 0; k < 3; ++k) Phi_bar[link.source * 6 + link.bin[k]] += link.coeff[k] * total;
@@ -373,11 +407,12 @@ class Hierarchy {
         root_E_bar[r] = H[0] + H[1] + H[2];
       }
     });
-    std::vector<double> bar(E + 6 * clusters.size(), 0.0);
+    std::vector<double> bar(4 * E + 6 * clusters.size(), 0.0);
     for (const auto& a : adjoints)
       for (std::size_t q = 0; q < bar.size(); ++q) bar[q] += a[q];
     double* B_bar = bar.data();
     double* Phi_bar = bar.data() + E;
+    const double* D_bar = bar.data() + E + 6 * clusters.size();
     if (!cluster_links.empty()) field_up(0, false, root_E_bar.data(), B_bar, Phi_bar);
     for (std::size_t c = 0; c < clusters.size(); ++c) {  // parents first: the reverse of the pull
       const Cluster& cl = clusters[c];
@@ -398,6 +433,9 @@ class Hierarchy {
             out[el.leaf] = B_bar[e];
           } else {
             for (int c = 0; c < 4; ++c) B_bar[el.first_child + c] += elements[el.first_child + c].area / el.area * B_bar[e];
+            const double* d = &D_bar[3 * e];  // the adjoint of D_v = 2 (m_v − Σ m / 3)
+            const double sum = d[0] + d[1] + d[2];
+            for (int v = 0; v < 3; ++v) B_bar[el.first_child + v] += 2 * d[v] - 2 * sum / 3;
           }
         }
       }
@@ -419,17 +457,19 @@ void check_cancel(const SolveControl& control) {
 // (Sinkhorn–Knopp, alternating): a closed leaf's row and column sums become 1, an open leaf's are
 // only kept from exceeding 1 (never more than a hemisphere, never more than was shot).
 //
-// Columns are the less accurate side: a coarse source spreads what it sends evenly over its leaves,
-// and where it meets a small receiver at an edge the kernel is anything but even (leaf columns
-// 0.85–1.34 in a black room lit by its floor, whose rows were within 1.2 %). So a column is held at
-// 1 only where that conserves power the scene computes. Leaves that send nothing (`sends` 0: black
-// and not emitting) are left alone. Emitting leaves, whose exitance is given, are held together per
+// Columns are the less accurate side: a coarse source spreads what it sends over its leaves by a
+// linear field at most (Link::bin, the point where a near link reads its source), and where it meets
+// a small receiver at an edge the kernel is far from even (leaf columns 0.85–1.34 in a black room lit
+// by its floor while the spread was even, whose rows were within 1.2 %). So a column is held at 1
+// only where that conserves power the scene computes. Leaves that send nothing (`sends` 0: black and
+// not emitting) are left alone. Emitting leaves, whose exitance is given, are held together per
 // root, weighted by what each sends: held leaf by leaf, they moved the floor's light in that room by
 // up to 8 % (17 % while the black walls' columns were held too). Reflecting leaves keep their own
 // columns: their power is the solution's, and without them a closed room lit by a point source
-// lost 1.2 % of it. The price is the same distortion where reflectors meet at an edge: with grey
-// walls, that room is 7.8 % off the dense solver at worst (0.86 % with the reflectors' columns
-// free, which lost 0.14 % of the power there).
+// lost 1.2 % of it (held per root, or per group of 16 leaves, 0.7 %: the power a root sends is
+// not spread over it as its radiosity is). The price was the same distortion where reflectors meet
+// at an edge: with grey walls that room was 8.3 % off the dense solver at worst while coarse sources
+// were read at their centroid, 1.0 % since near links read them where the receiver sees them.
 //
 // Each sweep is one apply() and one apply_transpose(); plain sweeps shrink the error by about 0.65
 // each in the sphere furnaces, over-relaxed ones (optimal_overrelaxation, solver/linear_solve.h) by
@@ -845,8 +885,33 @@ class Refiner {
     link.source = s;
     for (int k = 0; k < 3; ++k) link.coeff[k] = static_cast<float>(a[k]);
     link.error_per_B = static_cast<float>((residual + partial) * weight);
+    if (!smooth && h_.has_children(s)) link.bin = source_point_of(S, R);
     if (clear) out.links.push_back(link);
     else out.pending.push_back(link);
+  }
+
+  // A near link's point on its source S: the centroid of S weighted by the factor from its points to
+  // the receiver R (the degree-5 rule over S), so that the link reads S's radiosity where R sees it:
+  // next to an edge S shares with R, not at S's centroid. The transpose then hands S's leaves near
+  // the edge their share; spread evenly over S, it left their column sums short and the closure
+  // balance scaled them up for every receiver.
+  std::array<unsigned char, 3> source_point_of(const Element& S, const Element& R) const {
+    const TriangleRule rule = triangle_rule_degree5();
+    double sum = 0, b1 = 0, b2 = 0;
+    for (int q = 0; q < rule.size; ++q) {
+      const auto& w = rule.nodes[q];
+      const double f = rule.weights[q] *
+                       point_triangle_factor(barycentric(S.tri.v[0], S.tri.v[1], S.tri.v[2], w[0], w[1], w[2]), S.normal, R.tri);
+      sum += f;
+      b1 += f * w[1];
+      b2 += f * w[2];
+    }
+    if (!(sum > 0)) return {kCentroid, kCentroid, 0};
+    // Rounded so that β1 + β2 stays within 1 (β0 ≥ 0).
+    const double x1 = std::clamp(b1 / sum, 0.0, 1.0), x2 = std::clamp(b2 / sum, 0.0, 1.0 - x1);
+    const auto q1 = static_cast<unsigned char>(std::lround(x1 * kPointScale));
+    const auto q2 = static_cast<unsigned char>(std::min<long>(std::lround(x2 * kPointScale), 255 - q1));
+    return {q1, q2, 0};
   }
 
   void refine_to_cluster(int r, int c, LinkBatch& out) const {
