@@ -95,7 +95,7 @@ struct Link {
   int source = 0;            // element or cluster
   bool from_cluster = false;
   // Cluster source: the bins of Φ that the three weights apply to. Element source: bin[0], bin[1]
-  // are β1, β2 of the point y* where the link reads the source's radiosity (source_point), y* =
+  // are β1, β2 of the point y* where the link reads the source's radiosity (corner_weights), y* =
   // ∫ f(y) y dA / ∫ f(y) dA with f(y) the factor from y to the receiver: exact for a radiosity linear
   // over the source, and in the transpose the link's share of each of the source's leaves then has
   // the kernel's first moment. The centroid where the kernel is about even. (One field for both
@@ -105,11 +105,14 @@ struct Link {
   float error_per_B = 0;     // error bound of the factor: irradiance error per unit source radiosity
 };
 static_assert(sizeof(Link) == 28);
-// β0, β1, β2 of an element link's point on its source.
-std::array<double, 3> source_point(const Link& l) {
+// The weights w_v = 2 (β_v − 1/3) of an element link's point on its source, by which it reads the
+// source's corner children: the linear field fitted to their means m_v is B + Σ_v D_v β_v with
+// D_v = 2 (m_v − Σ m / 3), so the field at β is B + Σ_v w_v m_v. All 0 at the centroid (or no point).
+std::array<double, 3> corner_weights(const Link& l) {
   const double b1 = l.bin[0] / kPointScale, b2 = l.bin[1] / kPointScale;
-  return {1 - b1 - b2, b1, b2};
+  return {2 * (1 - b1 - b2 - 1.0 / 3), 2 * (b1 - 1.0 / 3), 2 * (b2 - 1.0 / 3)};
 }
+bool reads_centroid(const Link& l) { return l.bin[0] == kCentroid && l.bin[1] == kCentroid; }
 
 // A link into a cluster of roots whose normals all face the source (Refiner::refine_pair): it adds
 // Ψ × `toward` to the cluster's vector irradiance V, Ψ being the irradiance on a surface facing the
@@ -184,9 +187,6 @@ class Hierarchy {
   struct Values {
     std::size_t K = 0;
     std::vector<double> B;    // per element: area-mean radiosity
-    // Per element, 3 × K: the radiosity as a linear field over it, B + Σ_v D_v β_v (Σ_v D_v = 0),
-    // fitted to the means of its three corner children (0 for a leaf): D_v = 2 (m_v − (m_0 + m_1 + m_2)/3).
-    std::vector<double> D;
     std::vector<double> Phi;  // per cluster: 6 bins × K
   };
 
@@ -196,7 +196,6 @@ class Hierarchy {
     const std::size_t K = V.size();
     out.K = K;
     out.B.assign(elements.size() * K, 0.0);
-    out.D.assign(elements.size() * 3 * K, 0.0);
     out.Phi.assign(clusters.size() * 6 * K, 0.0);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, root_block.size(), 8), [&](const auto& range) {
       for (std::size_t r = range.begin(); r != range.end(); ++r) {
@@ -212,12 +211,6 @@ class Hierarchy {
               const double w = elements[el.first_child + c].area / el.area;
               const double* bc = &out.B[(el.first_child + c) * K];
               for (std::size_t k = 0; k < K; ++k) b[k] += w * bc[k];
-            }
-            const double* m = &out.B[el.first_child * K];  // the corner children 0, 1, 2 (kChildVertex)
-            double* d = &out.D[e * 3 * K];
-            for (std::size_t k = 0; k < K; ++k) {
-              const double corner_mean = (m[k] + m[K + k] + m[2 * K + k]) / 3;
-              for (int v = 0; v < 3; ++v) d[v * K + k] = 2 * (m[v * K + k] - corner_mean);
             }
           }
         }
@@ -247,10 +240,16 @@ class Hierarchy {
       const Link& link = links[l];
       if (!link.from_cluster) {
         const double* b = &v.B[link.source * K];
-        const double* d = &v.D[link.source * 3 * K];
-        const auto at = source_point(link);
+        const int children = elements[link.source].first_child;
+        if (children < 0 || reads_centroid(link)) {
+          for (int n = 0; n < 3; ++n)
+            for (std::size_t k = 0; k < K; ++k) h[n * K + k] += link.coeff[n] * b[k];
+          continue;
+        }
+        const double* m = &v.B[children * K];  // the corner children 0, 1, 2 (kChildVertex)
+        const auto w = corner_weights(link);
         for (std::size_t k = 0; k < K; ++k) {
-          const double read = b[k] + at[0] * d[k] + at[1] * d[K + k] + at[2] * d[2 * K + k];
+          const double read = b[k] + w[0] * m[k] + w[1] * m[K + k] + w[2] * m[2 * K + k];
           for (int n = 0; n < 3; ++n) h[n * K + k] += link.coeff[n] * read;
         }
       } else {
@@ -370,12 +369,11 @@ class Hierarchy {
   void apply_transpose(const double* W, double* out) const {
     const std::size_t E = elements.size();
     std::vector<double> root_E_bar(roots.size(), 0.0);  // adjoint of cluster_field's root_E
-    tbb::enumerable_thread_specific<std::vector<double>> adjoints(std::vector<double>(4 * E + 6 * clusters.size(), 0.0));
+    tbb::enumerable_thread_specific<std::vector<double>> adjoints(std::vector<double>(E + 6 * clusters.size(), 0.0));
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, root_block.size(), 8), [&](const auto& range) {
       std::vector<double>& a = adjoints.local();
       double* B_bar = a.data();
       double* Phi_bar = a.data() + E;
-      double* D_bar = a.data() + E + 6 * clusters.size();
       std::vector<double> H;  // adjoint of the vertex irradiance, per element of the root's block
       for (std::size_t r = range.begin(); r != range.end(); ++r) {
         const auto [first, end] = root_block[r];
@@ -390,8 +388,11 @@ class Hierarchy {
             if (!link.from_cluster) {
               const double read_bar = link.coeff[0] * h[0] + link.coeff[1] * h[1] + link.coeff[2] * h[2];
               B_bar[link.source] += read_bar;
-              const auto at = source_point(link);
-              for (int q = 0; q < 3; ++q) D_bar[3 * link.source + q] += at[q] * read_bar;
+              const int children = elements[link.source].first_child;
+              if (children >= 0 && !reads_centroid(link)) {
+                const auto w = corner_weights(link);
+                for (int q = 0; q < 3; ++q) B_bar[children + q] += w[q] * read_bar;
+              }
             } else {
               const double total = h[0] + h[1] + h[2];
               for (int k = 0; k < 3; ++k) Phi_bar[link.source * 6 + link.bin[k]] += link.coeff[k] * total;
@@ -407,12 +408,11 @@ class Hierarchy {
         root_E_bar[r] = H[0] + H[1] + H[2];
       }
     });
-    std::vector<double> bar(4 * E + 6 * clusters.size(), 0.0);
+    std::vector<double> bar(E + 6 * clusters.size(), 0.0);
     for (const auto& a : adjoints)
       for (std::size_t q = 0; q < bar.size(); ++q) bar[q] += a[q];
     double* B_bar = bar.data();
     double* Phi_bar = bar.data() + E;
-    const double* D_bar = bar.data() + E + 6 * clusters.size();
     if (!cluster_links.empty()) field_up(0, false, root_E_bar.data(), B_bar, Phi_bar);
     for (std::size_t c = 0; c < clusters.size(); ++c) {  // parents first: the reverse of the pull
       const Cluster& cl = clusters[c];
@@ -433,9 +433,6 @@ class Hierarchy {
             out[el.leaf] = B_bar[e];
           } else {
             for (int c = 0; c < 4; ++c) B_bar[el.first_child + c] += elements[el.first_child + c].area / el.area * B_bar[e];
-            const double* d = &D_bar[3 * e];  // the adjoint of D_v = 2 (m_v − Σ m / 3)
-            const double sum = d[0] + d[1] + d[2];
-            for (int v = 0; v < 3; ++v) B_bar[el.first_child + v] += 2 * d[v] - 2 * sum / 3;
           }
         }
       }
