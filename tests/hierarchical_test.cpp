@@ -161,7 +161,7 @@ TEST(Hierarchical, GreyRoomLitByItsFloorAgreesWithTheDenseSolverAtItsEdges) {
   // the receiver gathers evenly over its leaves in the transpose, so the leaves next to the edge came
   // out with column sums short and the closure balance scaled them up for every receiver: worst
   // 8.3 %, rms 1.4 % on the 712 shared patches (a ceiling patch at a corner). Near links now read
-  // their source at the point where the receiver sees it (Link::at). Measured: worst 1.0 %, rms 0.26 %.
+  // their source at the point where the receiver sees it (Link::bin). Measured: worst 1.0 %, rms 0.26 %.
   SceneBuilder b;
   const int black = b.material("black", 0.0), grey = b.material("grey", 0.5);
   for_each_box_face(Point3{0, 0, 0}, Point3{6, 4, 3}, [&](const Point3& o, const Vector3& u, const Vector3& v) {
