@@ -240,8 +240,9 @@ class Hierarchy {
       const Link& link = links[l];
       if (!link.from_cluster) {
         const double* b = &v.B[link.source * K];
-        const int children = elements[link.source].first_child;
-        if (children < 0 || reads_centroid(link)) {
+        // (The centroid test first: it needs only the link, and most links read the centroid.)
+        const int children = reads_centroid(link) ? -1 : elements[link.source].first_child;
+        if (children < 0) {
           for (int n = 0; n < 3; ++n)
             for (std::size_t k = 0; k < K; ++k) h[n * K + k] += link.coeff[n] * b[k];
           continue;
@@ -388,8 +389,8 @@ class Hierarchy {
             if (!link.from_cluster) {
               const double read_bar = link.coeff[0] * h[0] + link.coeff[1] * h[1] + link.coeff[2] * h[2];
               B_bar[link.source] += read_bar;
-              const int children = elements[link.source].first_child;
-              if (children >= 0 && !reads_centroid(link)) {
+              const int children = reads_centroid(link) ? -1 : elements[link.source].first_child;
+              if (children >= 0) {
                 const auto w = corner_weights(link);
                 for (int q = 0; q < 3; ++q) B_bar[children + q] += w[q] * read_bar;
               }
