@@ -18,29 +18,11 @@ import argparse
 import json
 import sys
 
+from city_block import quad
+from cube_room_furnace import box
+
 H = 3.0
 L_PLAN = [(0, 0), (6, 0), (6, 2), (4, 2), (4, 4), (0, 4)]  # counter-clockwise seen from above
-
-
-def quad(vertices, triangles, a, b, c, d):
-    """Two triangles a-b-c, a-c-d (counter-clockwise about the face's normal)."""
-    i = len(vertices)
-    vertices.extend([list(a), list(b), list(c), list(d)])
-    triangles.extend([[i, i + 1, i + 2], [i, i + 2, i + 3]])
-
-
-def box(lo, hi, inward=False):
-    (x0, y0, z0), (x1, y1, z1) = lo, hi
-    faces = [((x0, y0, z0), (x1, y0, z0), (x1, y1, z0), (x0, y1, z0)),
-             ((x0, y0, z1), (x0, y1, z1), (x1, y1, z1), (x1, y0, z1)),
-             ((x0, y0, z0), (x0, y0, z1), (x1, y0, z1), (x1, y0, z0)),
-             ((x0, y1, z0), (x1, y1, z0), (x1, y1, z1), (x0, y1, z1)),
-             ((x0, y0, z0), (x0, y1, z0), (x0, y1, z1), (x0, y0, z1)),
-             ((x1, y0, z0), (x1, y0, z1), (x1, y1, z1), (x1, y1, z0))]
-    vertices, triangles = [], []
-    for face in faces:  # each listed so that it faces into the box
-        quad(vertices, triangles, *(face if inward else reversed(face)))
-    return vertices, triangles
 
 
 def l_room():
@@ -54,22 +36,23 @@ def l_room():
     for k, (px, py) in enumerate(L_PLAN):  # walls, facing into the plan
         qx, qy = L_PLAN[(k + 1) % len(L_PLAN)]
         quad(vertices, triangles, (px, py, 0), (px, py, H), (qx, qy, H), (qx, qy, 0))
-    return vertices, triangles
+    return {"vertices": vertices, "triangles": triangles}
 
 
 def crate():
-    vertices, triangles = box((2.2, 0.5, 0), (3.0, 1.3, 0.9))
-    return vertices, triangles[2:]  # no bottom: it stands on the floor
+    mesh = box((2.2, 0.5, 0), (3.0, 1.3, 0.9), False)
+    # No bottom (box's first face, vertices 0-3): it stands on the floor.
+    return {"vertices": mesh["vertices"][4:], "triangles": [[i - 4 for i in t] for t in mesh["triangles"][2:]]}
 
 
 def transform(mesh, scale, offset):
-    vertices, triangles = mesh
-    return {"vertices": [[scale * p[k] + offset[k] for k in range(3)] for p in vertices], "triangles": triangles}
+    return {"vertices": [[scale * p[k] + offset[k] for k in range(3)] for p in mesh["vertices"]],
+            "triangles": mesh["triangles"]}
 
 
 def write(args):
-    parts = {"room": l_room(), "cube": box((1, 2.6, 1.2), (1.8, 3.4, 2.0)), "crate": crate(),
-             "plate": box((4.5, 0.5, 1.0), (5.5, 1.5, 1.01))}
+    parts = {"room": l_room(), "cube": box((1, 2.6, 1.2), (1.8, 3.4, 2.0), False), "crate": crate(),
+             "plate": box((4.5, 0.5, 1.0), (5.5, 1.5, 1.01), False)}
     scene = {
         "lambert": 1,
         "name": "l-room-furnace",
