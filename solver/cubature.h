@@ -4,6 +4,8 @@
 
 #include <array>
 #include <cmath>
+#include <span>
+#include <type_traits>
 
 #include "mesh/geometry.h"
 
@@ -17,12 +19,28 @@ struct TriangleRule {
 };
 TriangleRule triangle_rule_degree5();  // 7 points (Radon), exact for quintics
 
+inline constexpr int kMaxRuleSize = 7;
+
+// ∫_t f dA by the rule. f is either a point function, double(const Point3&), or a batch function,
+// void(std::span<const Point3> nodes, std::span<double> values), which evaluates every node in one
+// call (point_triangle_factors: several times faster than one call per node).
 template <class F>
 double apply_rule(const TriangleRule& rule, const Triangle& t, F&& f) {
   double sum = 0;
-  for (int q = 0; q < rule.size; ++q) {
-    const auto& w = rule.nodes[q];
-    sum += rule.weights[q] * f(barycentric(t.v[0], t.v[1], t.v[2], w[0], w[1], w[2]));
+  if constexpr (std::is_invocable_v<F&, std::span<const Point3>, std::span<double>>) {
+    std::array<Point3, kMaxRuleSize> nodes;
+    std::array<double, kMaxRuleSize> values;
+    for (int q = 0; q < rule.size; ++q) {
+      const auto& w = rule.nodes[q];
+      nodes[q] = barycentric(t.v[0], t.v[1], t.v[2], w[0], w[1], w[2]);
+    }
+    f(std::span<const Point3>(nodes.data(), rule.size), std::span<double>(values.data(), rule.size));
+    for (int q = 0; q < rule.size; ++q) sum += rule.weights[q] * values[q];
+  } else {
+    for (int q = 0; q < rule.size; ++q) {
+      const auto& w = rule.nodes[q];
+      sum += rule.weights[q] * f(barycentric(t.v[0], t.v[1], t.v[2], w[0], w[1], w[2]));
+    }
   }
   return sum * t.area();
 }

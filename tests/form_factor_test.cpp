@@ -4,6 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <random>
+#include <vector>
+
 #include "solver/cubature.h"
 #include "solver/spectrum.h"
 #include "tests/test_geometry.h"
@@ -72,6 +75,46 @@ TEST(PointPolygonFactor, HorizonClippingKeepsOnlyTheVisiblePart) {
   EXPECT_NEAR(point_rect_factor({0, 0, 0}, {0, 0, 1}, wall), 0.055734197, 1e-9);
   // Seen from behind, a one-sided emitter contributes nothing.
   EXPECT_EQ(point_rect_factor({0, 2, 0.5}, {0, -1, 0}, wall), 0.0);
+}
+
+TEST(PointTriangleFactors, TheBatchGivesEachPointsOwnFactor) {
+  // The batched kernel against one call per point, for points that take its vectorised lanes (far,
+  // in front), and for those it hands back to point_triangle_factor: behind the source, the source
+  // cut by the point's horizon, an edge seen under more than 14° (close by), on the source's plane.
+  // Batches of 1 to 21 points (lanes of 8, some unused).
+  std::mt19937_64 random(7);
+  std::uniform_real_distribution<double> u(-1, 1);
+  const Triangle source{{Point3{0, 0, 1}, Point3{0, 0.3, 1.1}, Point3{0.4, 0, 0.9}}};
+  int fast = 0, fallback = 0, zero = 0;
+  for (int batch = 1; batch <= 21; ++batch) {
+    for (int trial = 0; trial < 20; ++trial) {
+      const Vector3 n = normalize(Vector3{0.3 * u(random), 0.3 * u(random), 1});
+      std::vector<Point3> points(batch);
+      for (Point3& p : points) {
+        const double scale = std::pow(10.0, 1.5 * u(random));  // 0.03 … 30 below the source
+        p = Point3{0.1 + scale * u(random), 0.1 + scale * u(random), 1 - scale * std::abs(u(random))};
+      }
+      std::vector<double> batched(batch);
+      point_triangle_factors(points, n, source, batched);
+      for (int q = 0; q < batch; ++q) {
+        const double one = point_triangle_factor(points[q], n, source);
+        EXPECT_NEAR(batched[q], one, 1e-14 * std::max(one, 1e-300)) << batch << " " << q;
+        zero += one == 0;
+        // Which path the point took, by point_triangle_factor's rules (for the coverage count only).
+        bool series = true;
+        for (int k = 0; k < 3; ++k) {
+          const Vector3 a = source.v[k] - points[q], b = source.v[(k + 1) % 3] - points[q];
+          const double d = dot(a, b);
+          series = series && d > 0 && 16 * length_squared(cross(b, a)) <= d * d && dot(a, n) >= 0;
+        }
+        (series ? fast : fallback) += one != 0;
+      }
+    }
+  }
+  // Every kind was met.
+  EXPECT_GT(fast, 1000);
+  EXPECT_GT(fallback, 1000);
+  EXPECT_GT(zero, 200);
 }
 
 TEST(SolidAngle, SquareCentredAbovePoint) {

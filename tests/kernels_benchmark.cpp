@@ -6,6 +6,7 @@
 #include <random>
 #include <vector>
 
+#include "solver/cubature.h"
 #include "solver/form_factor.h"
 #include "solver/visibility.h"
 #include "tests/scene_builder.h"
@@ -24,6 +25,39 @@ void BM_PointTriangleFactor(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_PointTriangleFactor);
+
+// The degree-5 rule's 7 points of a receiver, one call each against one batched call.
+std::vector<Point3> receiver_points() {
+  const TriangleRule rule = triangle_rule_degree5();
+  std::vector<Point3> points;
+  for (int q = 0; q < rule.size; ++q) {
+    const auto& w = rule.nodes[q];
+    points.push_back(barycentric(kReceiver.v[0], kReceiver.v[1], kReceiver.v[2], w[0], w[1], w[2]));
+  }
+  return points;
+}
+
+void BM_PointTriangleFactor7(benchmark::State& state) {
+  const Triangle source{{Point3{0, 0, 1}, Point3{0, 0.1, 1}, Point3{0.1, 0, 1}}};
+  const std::vector<Point3> points = receiver_points();
+  for (auto _ : state) {
+    double sum = 0;
+    for (const Point3& p : points) sum += point_triangle_factor(p, {0, 0, 1}, source);
+    benchmark::DoNotOptimize(sum);
+  }
+}
+BENCHMARK(BM_PointTriangleFactor7);
+
+void BM_PointTriangleFactorsBatch7(benchmark::State& state) {
+  const Triangle source{{Point3{0, 0, 1}, Point3{0, 0.1, 1}, Point3{0.1, 0, 1}}};
+  const std::vector<Point3> points = receiver_points();
+  std::vector<double> out(points.size());
+  for (auto _ : state) {
+    point_triangle_factors(points, {0, 0, 1}, source, out);
+    benchmark::DoNotOptimize(out.data());
+  }
+}
+BENCHMARK(BM_PointTriangleFactorsBatch7);
 
 void BM_AreaFormFactor(benchmark::State& state) {
   // state.range(0): distance between the patches in units of 1 mm (patch size 50 mm).
