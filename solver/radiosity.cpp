@@ -682,9 +682,10 @@ Solution solve_dense(const Scene& scene, const SolveControl& control, const std:
     // Closure: a patch whose hemisphere is closed (no probe ray escapes or hits the back of a
     // surface) must have Σ_j F_ij = 1; the kernel is exact, so any deficit or excess comes from the
     // visible-fraction estimates of partly occluded links. We restore it with a symmetric diagonal
-    // scaling G' = D G D (symmetric Sinkhorn balancing, D = 1 on open patches), which keeps
-    // reciprocity A_i F_ij = A_j F_ji exact while closing every closed row: energy is conserved
-    // and the furnace gives B = M/(1 − ρ) exactly. The size of the correction is reported.
+    // scaling G' = D G D (symmetric_row_scaling: Newton steps, or Sinkhorn sweeps where those stall;
+    // D = 1 on open patches), which keeps reciprocity A_i F_ij = A_j F_ji exact while closing every
+    // closed row: energy is conserved and the furnace gives B = M/(1 − ρ) exactly. The size of the
+    // correction is reported.
     // A patch whose links were all decided without rays has an exact row (the kernel), and if it lies
     // in front of every occluder plane it sees no back face: its row sum tells whether its
     // hemisphere is closed (to 1e-3, finer than the probe's rays resolve), and no probe is needed.
@@ -708,24 +709,17 @@ Solution solve_dense(const Scene& scene, const SolveControl& control, const std:
     double worst_closure = 0;
     std::size_t leaking_patches = 0;
     std::vector<double> d(N, 1.0);
+    std::vector<char> closing(N, 0);  // the closed rows that gather anything
     for (std::size_t i = 0; i < N; ++i) {
       const double sum = row_total(i, d);
-      if (closed[i] == 1 && sum > 0) worst_closure = std::max(worst_closure, std::abs(1 - sum));
+      closing[i] = closed[i] == 1 && sum > 0;
+      if (closing[i]) worst_closure = std::max(worst_closure, std::abs(1 - sum));
       leaking_patches += closed[i] == 2;
     }
-    for (int iteration = 0; iteration < 500 && worst_closure > 0; ++iteration) {
-      std::vector<double> totals(N);
-      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, N, 32), [&](const auto& range) {
-        for (std::size_t i = range.begin(); i != range.end(); ++i) totals[i] = closed[i] == 1 ? row_total(i, d) : 0;
-      });
-      double deviation = 0;
-      for (std::size_t i = 0; i < N; ++i) {
-        if (closed[i] != 1 || totals[i] <= 0) continue;
-        const double row_sum_now = d[i] * totals[i];  // Σ_j F'_ij with F'_ij = d_i F_ij d_j
-        deviation = std::max(deviation, std::abs(1 - row_sum_now));
-        d[i] = std::sqrt(d[i] / totals[i]);
-      }
-      if (deviation < 1e-13) break;
+    if (worst_closure > 0) {
+      std::vector<double> area(N);
+      for (std::size_t i = 0; i < N; ++i) area[i] = sol.patches[i].area_m2;
+      d = symmetric_row_scaling(F, N, closing, area, 1e-13, 500);
     }
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, N, 32), [&](const auto& range) {
       for (std::size_t i = range.begin(); i != range.end(); ++i) {

@@ -8,6 +8,8 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <random>
+#include <vector>
 
 #include "solver/form_factor.h"
 #include "solver/linear_solve.h"
@@ -459,4 +461,100 @@ TEST(LinearSolve, OverrelaxationFromTheObservedRateIsTheFastest) {
   EXPECT_LT(std::log(rate(omega)), 5 * std::log(plain));
   // Inferring again from the rate observed at a smaller ω gives the same ω*.
   EXPECT_NEAR(lambert::optimal_overrelaxation(rate(1.1), 1.1), omega, 0.02);
+}
+
+// symmetric_row_scaling on matrices with known answers. A random reciprocal F (A_i F_ij = A_j F_ji)
+// whose rows all sum to c: d = 1/√c closes every row.
+namespace {
+// Patches in two halves that see each other more than their own half (`within` times as much), as
+// opposite walls do: F then has eigenvalues near −(1 − within)/(1 + within), which slow the plain
+// sweeps down (they contract by (1 − λ_min)/2 per pass).
+std::vector<double> reciprocal_rows(std::size_t n, double c, double within, std::vector<double>& area, unsigned seed) {
+  // G symmetric with positive entries, then the symmetric Sinkhorn–Knopp scaling that makes its row
+  // sums A_i (a fixed point reached by plain iteration), times c: F_ij = c S_ij / A_i.
+  std::mt19937_64 random(seed);
+  std::uniform_real_distribution<double> u(0.1, 1);
+  area.resize(n);
+  for (double& a : area) a = u(random);
+  std::vector<double> G(n * n);
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t j = 0; j <= i; ++j)
+      G[i * n + j] = G[j * n + i] = i == j ? 0 : u(random) * u(random) * ((2 * i < n) == (2 * j < n) ? within : 1);
+  std::vector<double> s(n, 1.0);
+  for (int k = 0; k < 5000; ++k)
+    for (std::size_t i = 0; i < n; ++i) {
+      double t = 0;
+      for (std::size_t j = 0; j < n; ++j) t += G[i * n + j] * s[j];
+      s[i] = std::sqrt(s[i] * area[i] / t);
+    }
+  std::vector<double> F(n * n);
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t j = 0; j < n; ++j) F[i * n + j] = c * s[i] * G[i * n + j] * s[j] / area[i];
+  return F;
+}
+}  // namespace
+
+TEST(LinearSolve, SymmetricRowScalingClosesRowsThatAllSumToTheSame) {
+  const std::size_t n = 40;
+  for (double c : {0.5, 0.98, 1.3}) {
+    std::vector<double> area;
+    const std::vector<double> F = reciprocal_rows(n, c, 0.3, area, 11);
+    for (std::size_t i = 0; i < n; ++i)
+      ASSERT_NEAR(std::accumulate(&F[i * n], &F[i * n] + n, 0.0), c, 1e-12) << c;
+    double deviation = 1;
+    const std::vector<double> d =
+        lambert::symmetric_row_scaling(F, n, std::vector<char>(n, 1), area, 1e-13, 500, nullptr, &deviation);
+    EXPECT_LT(deviation, 1e-13) << c;
+    for (std::size_t i = 0; i < n; ++i) EXPECT_NEAR(d[i], 1 / std::sqrt(c), 1e-12) << c << " " << i;
+  }
+}
+
+TEST(LinearSolve, SymmetricRowScalingLeavesOpenRowsAndKeepsReciprocity) {
+  // Rows perturbed reciprocally away from closure, a third of them flagged open. The flagged rows'
+  // sums go to 1, the open rows' scales stay 1, A_i d_i F_ij d_j stays symmetric, and the scales are
+  // those of the plain symmetric Sinkhorn sweep d_i ← √(d_i / (F d)_i) (a second method), found in
+  // fewer passes over F.
+  for (double perturbation : {0.05, 0.5}) {  // closed rows start about 2.5 % and 25 % off
+    const std::size_t n = 60;
+    std::vector<double> area;
+    std::vector<double> F = reciprocal_rows(n, 1.0, 0.2, area, 5);
+    // G_ij *= 1 + p (i + j) / 2n keeps A_i F_ij = A_j F_ji.
+    for (std::size_t i = 0; i < n; ++i)
+      for (std::size_t j = 0; j < n; ++j) F[i * n + j] *= 1 + perturbation * double(i + j) / (2 * n);
+    std::vector<char> rows(n, 1);
+    for (std::size_t i = 0; i < n; i += 3) rows[i] = 0;
+    int sweeps = 0;
+    double deviation = 1;
+    const std::vector<double> d =
+        lambert::symmetric_row_scaling(F, n, rows, area, 1e-13, 500, &sweeps, &deviation);
+    EXPECT_LT(deviation, 1e-13) << perturbation;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!rows[i]) {
+        EXPECT_EQ(d[i], 1.0) << i;
+        continue;
+      }
+      double sum = 0;
+      for (std::size_t j = 0; j < n; ++j) sum += d[i] * F[i * n + j] * d[j];
+      EXPECT_NEAR(sum, 1, 1e-13) << perturbation << " " << i;
+    }
+    for (std::size_t i = 0; i < n; ++i)
+      for (std::size_t j = 0; j < i; ++j)
+        EXPECT_NEAR(area[i] * d[i] * F[i * n + j] * d[j], area[j] * d[j] * F[j * n + i] * d[i],
+                    1e-15 * area[i] * F[i * n + j]);
+    std::vector<double> plain(n, 1.0), t(n);
+    int plain_sweeps = 0;
+    for (double worst = 1; worst >= 1e-13 && plain_sweeps < 5000; ++plain_sweeps) {
+      worst = 0;
+      for (std::size_t i = 0; i < n; ++i) {
+        if (!rows[i]) continue;
+        t[i] = 0;
+        for (std::size_t j = 0; j < n; ++j) t[i] += F[i * n + j] * plain[j];
+        worst = std::max(worst, std::abs(1 - plain[i] * t[i]));
+      }
+      for (std::size_t i = 0; i < n; ++i)
+        if (rows[i]) plain[i] = std::sqrt(plain[i] / t[i]);
+    }
+    for (std::size_t i = 0; i < n; ++i) EXPECT_NEAR(d[i], plain[i], 1e-12) << perturbation << " " << i;
+    EXPECT_LT(2 * sweeps, plain_sweeps) << perturbation;
+  }
 }
