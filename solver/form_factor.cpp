@@ -187,10 +187,15 @@ double front_area_form_factor(const Triangle& receiver, const Triangle& source, 
   const Point3 cr = receiver.centroid(), cs = source.centroid();
   const double separation =
       distance(cr, cs) / (receiver.bounding_radius() + source.bounding_radius());
-  auto kernel = [&](std::span<const Point3> points, std::span<double> values) {
+  auto kernel = [&](const Point3& p) { return point_triangle_factor(p, n, source); };
+  // The batched kernel where its vectorised lanes will serve (the source's edges are seen under less
+  // than 14° from every node): beyond separation 2. Nearer, most nodes would fall back to the point
+  // kernel after the lanes, and the adaptive cubature below is all near.
+  auto batch = [&](std::span<const Point3> points, std::span<double> values) {
     point_triangle_factors(points, n, source, values);
   };
-  const double coarse = apply_rule(triangle_rule_degree5(), receiver, kernel);
+  const double coarse = separation > 2 ? apply_rule(triangle_rule_degree5(), receiver, batch)
+                                       : apply_rule(triangle_rule_degree5(), receiver, kernel);
   // Well separated pairs: the integrand is smooth on the scale of the receiver and the degree-5 rule
   // is accurate far below the tolerance (measured in form_factor_test, "far field"). A pair wholly in
   // front of each other's planes has no horizon crossing the receiver, and its integrand is smooth
