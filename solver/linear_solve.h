@@ -29,9 +29,9 @@ inline double optimal_overrelaxation(double rate, double omega) {
 // (each pass streams F once). Returns d and sets *sweeps and *deviation (the last measured).
 //
 // Newton's method, each step's linear equations solved by conjugate gradients, as long as it makes
-// progress; otherwise the symmetric Sinkhorn sweep d_i ← √(d_i / (F d)_i), which always converges
-// but contracts the error only by (1 − λ_min)/2 per pass (λ_min the most negative eigenvalue of F:
-// 0.66 in the cube room, 58 passes to 1e-13).
+// progress; otherwise the symmetric Sinkhorn sweep d_i ← √(d_i / (F d)_i), which is safe far from
+// the answer but contracts the error only by about (1 − λ_min)/2 per pass near it (λ_min the most
+// negative eigenvalue of F; 0.66 per pass in the cube room, 58 passes to 1e-13).
 std::vector<double> symmetric_row_scaling(const std::vector<double>& F, std::size_t n, const std::vector<char>& rows,
                                           const std::vector<double>& area, double tolerance, int max_sweeps,
                                           int* sweeps = nullptr, double* deviation = nullptr);
