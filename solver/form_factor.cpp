@@ -39,6 +39,10 @@ inline double atan_over_t(double z) {
 // the angle the edge subtends. Edges seen under less than 14° (|c| ≤ R_i·R_{i+1}/4: all edges of all
 // but nearby patches) use γ/|c| = atan_over_t(|c|²/(R_i·R_{i+1})²)/(R_i·R_{i+1}), which needs neither
 // the square root nor atan2 and is about six times faster: every form factor evaluates 21 edges.
+// An edge's term γ n·c/|c| by the series, for d = R_i·R_{i+1} > 0 and 16 |c|² ≤ d² (nc = n·c): the one
+// expression of contour_sum and of point_triangle_factors' lanes, so both give the same value.
+inline double series_edge_term(double nc, double c2, double d) { return nc * atan_over_t(c2 / (d * d)) / d; }
+
 double contour_sum(const Vector3& n, const Vector3* R, int count) {
   double sum = 0;
   for (int i = 0; i < count; ++i) {
@@ -47,7 +51,7 @@ double contour_sum(const Vector3& n, const Vector3* R, int count) {
     const Vector3 c = cross(b, a);
     const double c2 = length_squared(c), d = dot(a, b);
     if (d > 0 && 16 * c2 <= d * d) {
-      sum += dot(n, c) * atan_over_t(c2 / (d * d)) / d;
+      sum += series_edge_term(dot(n, c), c2, d);
       continue;
     }
     const double c_len = std::sqrt(c2);
@@ -130,7 +134,7 @@ __attribute__((target_clones("avx2", "default"))) void point_triangle_factors(st
         const double horizon = ax * n.x + ay * n.y + az * n.z;
         const bool good = (d > 0) & (16 * c2 <= d * d) & (horizon >= 0);
         const double dd = good ? d : 1.0;
-        const double term = (n.x * cx + n.y * cy + n.z * cz) * atan_over_t(c2 / (dd * dd)) / dd;
+        const double term = series_edge_term(n.x * cx + n.y * cy + n.z * cz, c2, dd);
         sum[l] += good ? term : 0.0;
         series[l] = good ? series[l] : 0.0;
       }

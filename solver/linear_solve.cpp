@@ -200,17 +200,18 @@ void solve_all(const SystemOperator& apply_batch, std::size_t n, std::vector<Rad
 
 }  // namespace
 
-std::vector<double> symmetric_row_scaling(const std::vector<double>& F, std::size_t n, const std::vector<char>& rows,
-                                          const std::vector<double>& area, double tolerance, int max_sweeps,
-                                          int* sweeps_out, double* deviation_out) {
-  std::vector<std::size_t> R;  // the rows to close
+RowScaling symmetric_row_scaling(const std::vector<double>& F, std::size_t n, const std::vector<char>& rows,
+                                 const std::vector<double>& area, double tolerance, int max_passes) {
+  std::vector<std::size_t> R;  // the rows to close (those with a positive sum, after the first pass)
   for (std::size_t i = 0; i < n; ++i)
     if (rows[i]) R.push_back(i);
-  std::vector<double> d(n, 1.0);
-  int sweeps = 0;
+  RowScaling out;
+  std::vector<double>& d = out.d;
+  d.assign(n, 1.0);
+  int& passes = out.passes;
   // out_r = Σ_j F_rj u_j for the rows r in R (u: an n-vector), one pass over those rows of F.
   auto multiply = [&](const std::vector<double>& u, std::vector<double>& out) {
-    ++sweeps;
+    ++passes;
     out.resize(R.size());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, R.size(), 32), [&](const auto& range) {
       for (std::size_t k = range.begin(); k != range.end(); ++k) {
@@ -226,15 +227,22 @@ std::vector<double> symmetric_row_scaling(const std::vector<double>& F, std::siz
   bool newton = true, stepped = false;  // Newton allowed; the last pass was a Newton step
   while (true) {
     multiply(d, t);  // t = F d
+    if (passes == 1) {  // the raw row sums: rows that gather nothing are left out
+      std::size_t kept = 0;
+      for (std::size_t k = 0; k < R.size(); ++k)
+        if (t[k] > 0) R[kept] = R[k], t[kept++] = t[k];
+      R.resize(kept), t.resize(kept);
+    }
     deviation = 0;
     for (std::size_t k = 0; k < R.size(); ++k) {
       w[k] = d[R[k]] * t[k];  // the row sum of D F D
       deviation = std::max(deviation, std::abs(1 - w[k]));
     }
-    if (deviation < tolerance || sweeps >= max_sweeps) break;
+    if (passes == 1) out.initial_deviation = deviation;
+    if (deviation < tolerance || passes >= max_passes) break;
     // Newton once the rows are within 10 % of closed, and for as long as each step at least halves
     // the deviation (it converges quadratically near the solution); otherwise, or once a step has
-    // failed to, the sweeps, which are safe where D F D has an eigenvalue near −1.
+    // failed to, the passes, which are safe where D F D has an eigenvalue near −1.
     if (stepped && !(deviation < 0.5 * previous)) newton = false;
     previous = deviation;
     stepped = newton && deviation < 0.1;
@@ -263,11 +271,11 @@ std::vector<double> symmetric_row_scaling(const std::vector<double>& F, std::siz
       rz += r[k] * z[k];
     }
     const double goal = std::max(1e-3 * deviation, 0.1 * tolerance);
-    while (sweeps < max_sweeps) {
+    while (passes < max_passes) {
       apply_K(p, q);
       double pq = 0;
       for (std::size_t k = 0; k < R.size(); ++k) pq += p[k] * q[k];
-      if (!(pq > 0)) break;  // not positive definite along p: leave it to the sweeps
+      if (!(pq > 0)) break;  // not positive definite along p: leave it to the passes
       const double alpha = rz / pq;
       double left = 0, rz_next = 0;
       for (std::size_t k = 0; k < R.size(); ++k) {
@@ -287,9 +295,8 @@ std::vector<double> symmetric_row_scaling(const std::vector<double>& F, std::siz
     if (stepped)
       for (std::size_t k = 0; k < R.size(); ++k) d[R[k]] *= 1 + e[k];
   }
-  if (sweeps_out) *sweeps_out = sweeps;
-  if (deviation_out) *deviation_out = deviation;
-  return d;
+  out.deviation = deviation;
+  return out;
 }
 
 void solve_radiosity_systems(const std::vector<double>& F, std::size_t n, std::vector<RadiositySystem>& systems,

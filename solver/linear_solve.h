@@ -22,19 +22,24 @@ inline double optimal_overrelaxation(double rate, double omega) {
 }
 
 // The symmetric diagonal scaling that closes the rows of F flagged in `rows`: d with
-// d_i Σ_j F_ij d_j = 1 for each such row (d = 1 on the others, whose rows and columns are left as they
-// are), so that F' = D F D closes those rows and keeps reciprocity A_i F'_ij = A_j F'_ji (`area`: A).
-// F: n×n row-major with A_i F_ij = A_j F_ji; every flagged row must have a positive sum. Stops when
-// max |1 − Σ_j F'_ij| over the flagged rows is below `tolerance` or after max_sweeps passes over F
-// (each pass streams F once). Returns d and sets *sweeps and *deviation (the last measured).
+// d_i Σ_j F_ij d_j = 1 for each such row that has a positive sum (d = 1 on the others, whose rows
+// and columns are left as they are), so that F' = D F D closes those rows and keeps reciprocity
+// A_i F'_ij = A_j F'_ji (`area`: A). F: n×n row-major with A_i F_ij = A_j F_ji. Stops when
+// max |1 − Σ_j F'_ij| over those rows is below `tolerance` or after max_passes passes over F (each
+// streams F once; the first measures the raw deviation).
 //
 // Newton's method, each step's linear equations solved by conjugate gradients, as long as it makes
 // progress; otherwise the symmetric Sinkhorn sweep d_i ← √(d_i / (F d)_i), which is safe far from
 // the answer but contracts the error only by about (1 − λ_min)/2 per pass near it (λ_min the most
 // negative eigenvalue of F; 0.66 per pass in the cube room, 58 passes to 1e-13).
-std::vector<double> symmetric_row_scaling(const std::vector<double>& F, std::size_t n, const std::vector<char>& rows,
-                                          const std::vector<double>& area, double tolerance, int max_sweeps,
-                                          int* sweeps = nullptr, double* deviation = nullptr);
+struct RowScaling {
+  std::vector<double> d;
+  int passes = 0;
+  double initial_deviation = 0;  // max |1 − Σ_j F_ij| over the closed rows, before the scaling
+  double deviation = 0;          // the same after it (the last measured)
+};
+RowScaling symmetric_row_scaling(const std::vector<double>& F, std::size_t n, const std::vector<char>& rows,
+                                 const std::vector<double>& area, double tolerance, int max_passes);
 
 struct RadiositySystem {
   std::vector<double> rho;   // ρ_i of the unknowns (size n)

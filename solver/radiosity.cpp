@@ -700,27 +700,11 @@ Solution solve_dense(const Scene& scene, const SolveControl& control, const std:
         }
       }
     });
-    auto row_total = [&](std::size_t i, const std::vector<double>& d) {
-      const double* row = &F[i * N];
-      double t = 0;
-      for (std::size_t j = 0; j < N; ++j) t += row[j] * d[j];
-      return t;
-    };
-    double worst_closure = 0;
-    std::size_t leaking_patches = 0;
-    std::vector<double> d(N, 1.0);
-    std::vector<char> closing(N, 0);  // the closed rows that gather anything
-    for (std::size_t i = 0; i < N; ++i) {
-      const double sum = row_total(i, d);
-      closing[i] = closed[i] == 1 && sum > 0;
-      if (closing[i]) worst_closure = std::max(worst_closure, std::abs(1 - sum));
-      leaking_patches += closed[i] == 2;
-    }
-    if (worst_closure > 0) {
-      std::vector<double> area(N);
-      for (std::size_t i = 0; i < N; ++i) area[i] = sol.patches[i].area_m2;
-      d = symmetric_row_scaling(F, N, closing, area, 1e-13, 500);
-    }
+    std::vector<char> closing(N, 0);
+    std::vector<double> area(N);
+    for (std::size_t i = 0; i < N; ++i) closing[i] = closed[i] == 1, area[i] = sol.patches[i].area_m2;
+    const RowScaling scaling = symmetric_row_scaling(F, N, closing, area, 1e-13, 500);
+    const std::vector<double>& d = scaling.d;
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, N, 32), [&](const auto& range) {
       for (std::size_t i = range.begin(); i != range.end(); ++i) {
         double* row = &F[i * N];
@@ -729,7 +713,7 @@ Solution solve_dense(const Scene& scene, const SolveControl& control, const std:
         row_sum[i] = sum;
       }
     });
-    sol.stats.max_closure_error = worst_closure;
+    sol.stats.max_closure_error = scaling.initial_deviation;
     report_hemisphere_findings(sol, scene, closed);
     double worst = 0, differ = 0, exchanged = 0;
     for (std::size_t i = 0; i < N; ++i)

@@ -150,7 +150,8 @@ TEST(Hierarchical, BlackRoomLitByItsFloorMatchesThePointFactors) {
     ++n;
   }
   // Measured: worst 1.19 %, mean 3e-5 (the linear fits at the default accuracy; 1.27 % before near
-  // links read their source where the receiver sees it; without any balance 1.17 %). Before: 17 %, and 8.1 % with only the black leaves' links and columns mended.
+  // links read their source where the receiver sees it; without any balance 1.17 %). Before: 17 %,
+  // and 8.1 % with only the black leaves' links and columns mended.
   EXPECT_LT(worst, 0.02);
   EXPECT_LT(std::abs(sum / n), 1e-3);
 }

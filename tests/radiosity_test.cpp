@@ -501,10 +501,10 @@ TEST(LinearSolve, SymmetricRowScalingClosesRowsThatAllSumToTheSame) {
     const std::vector<double> F = reciprocal_rows(n, c, 0.3, area, 11);
     for (std::size_t i = 0; i < n; ++i)
       ASSERT_NEAR(std::accumulate(&F[i * n], &F[i * n] + n, 0.0), c, 1e-12) << c;
-    double deviation = 1;
-    const std::vector<double> d =
-        lambert::symmetric_row_scaling(F, n, std::vector<char>(n, 1), area, 1e-13, 500, nullptr, &deviation);
-    EXPECT_LT(deviation, 1e-13) << c;
+    const lambert::RowScaling scaling = lambert::symmetric_row_scaling(F, n, std::vector<char>(n, 1), area, 1e-13, 500);
+    const std::vector<double>& d = scaling.d;
+    EXPECT_NEAR(scaling.initial_deviation, std::abs(1 - c), 1e-12) << c;
+    EXPECT_LT(scaling.deviation, 1e-13) << c;
     for (std::size_t i = 0; i < n; ++i) EXPECT_NEAR(d[i], 1 / std::sqrt(c), 1e-12) << c << " " << i;
   }
 }
@@ -523,11 +523,9 @@ TEST(LinearSolve, SymmetricRowScalingLeavesOpenRowsAndKeepsReciprocity) {
       for (std::size_t j = 0; j < n; ++j) F[i * n + j] *= 1 + perturbation * double(i + j) / (2 * n);
     std::vector<char> rows(n, 1);
     for (std::size_t i = 0; i < n; i += 3) rows[i] = 0;
-    int sweeps = 0;
-    double deviation = 1;
-    const std::vector<double> d =
-        lambert::symmetric_row_scaling(F, n, rows, area, 1e-13, 500, &sweeps, &deviation);
-    EXPECT_LT(deviation, 1e-13) << perturbation;
+    const lambert::RowScaling scaling = lambert::symmetric_row_scaling(F, n, rows, area, 1e-13, 500);
+    const std::vector<double>& d = scaling.d;
+    EXPECT_LT(scaling.deviation, 1e-13) << perturbation;
     for (std::size_t i = 0; i < n; ++i) {
       if (!rows[i]) {
         EXPECT_EQ(d[i], 1.0) << i;
@@ -555,6 +553,6 @@ TEST(LinearSolve, SymmetricRowScalingLeavesOpenRowsAndKeepsReciprocity) {
         if (rows[i]) plain[i] = std::sqrt(plain[i] / t[i]);
     }
     for (std::size_t i = 0; i < n; ++i) EXPECT_NEAR(d[i], plain[i], 1e-12) << perturbation << " " << i;
-    EXPECT_LT(2 * sweeps, plain_sweeps) << perturbation;
+    EXPECT_LT(2 * scaling.passes, plain_sweeps) << perturbation;
   }
 }
