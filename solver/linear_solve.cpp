@@ -222,65 +222,90 @@ RowScaling symmetric_row_scaling(const std::vector<double>& F, std::size_t n, co
       }
     });
   };
-  std::vector<double> t, w(R.size()), u(n, 0.0), e(R.size()), r(R.size()), z(R.size()), p(R.size()), q(R.size());
-  double deviation = 0, previous = INFINITY;
-  bool newton = true, stepped = false;  // Newton allowed; the last pass was a Newton step
+  // The state at a scaling d: t = F d on R, w = d ⊙ t (the row sums of D F D), the deviation
+  // max |1 − w| and the merit Σ (A (1 − w))², which a Newton step decreases along its direction.
+  struct State {
+    std::vector<double> d, t, w;
+    double deviation = 0, merit = 0;
+  };
+  State now, base;  // base: where the pending Newton step started
+  std::vector<double> u(n, 0.0), e, r, z, p, q;
+  bool newton = true, pending = false;  // Newton allowed; a Newton step awaits its check
+  double alpha = 1;                     // the pending step's length
   while (true) {
-    multiply(d, t);  // t = F d
+    multiply(d, now.t);
     if (passes == 1) {  // the raw row sums: rows that gather nothing are left out
       std::size_t kept = 0;
       for (std::size_t k = 0; k < R.size(); ++k)
-        if (t[k] > 0) R[kept] = R[k], t[kept++] = t[k];
-      R.resize(kept), t.resize(kept);
+        if (now.t[k] > 0) R[kept] = R[k], now.t[kept++] = now.t[k];
+      R.resize(kept), now.t.resize(kept);
     }
-    deviation = 0;
-    for (std::size_t k = 0; k < R.size(); ++k) {
-      w[k] = d[R[k]] * t[k];  // the row sum of D F D
-      deviation = std::max(deviation, std::abs(1 - w[k]));
+    const std::size_t m = R.size();
+    now.w.resize(m);
+    now.deviation = now.merit = 0;
+    for (std::size_t k = 0; k < m; ++k) {
+      now.w[k] = d[R[k]] * now.t[k];
+      now.deviation = std::max(now.deviation, std::abs(1 - now.w[k]));
+      now.merit += std::pow(area[R[k]] * (1 - now.w[k]), 2);
     }
-    if (passes == 1) out.initial_deviation = deviation;
-    if (deviation < tolerance || passes >= max_passes) break;
-    // Newton once the rows are within 10 % of closed, and for as long as each step at least halves
-    // the deviation (it converges quadratically near the solution); otherwise, or once a step has
-    // failed to, the passes, which are safe where D F D has an eigenvalue near −1.
-    if (stepped && !(deviation < 0.5 * previous)) newton = false;
-    previous = deviation;
-    stepped = newton && deviation < 0.1;
-    if (!stepped) {
-      for (std::size_t k = 0; k < R.size(); ++k) d[R[k]] = std::sqrt(d[R[k]] / t[k]);
+    if (passes == 1) out.initial_deviation = now.deviation;
+    if (now.deviation < tolerance || passes >= max_passes) break;
+    if (pending) {
+      // The step is kept if it decreased the merit (Armijo's condition); otherwise it is halved,
+      // and after 6 halvings given up for the sweeps, from where it started.
+      if (now.merit <= (1 - 1e-4 * alpha) * base.merit) {
+        pending = false;
+      } else if ((alpha /= 2) >= 1.0 / 64) {
+        ++out.step_halvings;
+        for (std::size_t k = 0; k < m; ++k) d[R[k]] = base.d[R[k]] * std::exp(alpha * e[k]);
+        continue;
+      } else {
+        pending = newton = false;
+        std::swap(now, base);
+        d = now.d;
+      }
+    }
+    // Newton once the rows are within 10 % of closed; the sweeps before that, or once a Newton
+    // step has failed.
+    if (!newton || now.deviation >= 0.1) {
+      for (std::size_t k = 0; k < m; ++k) d[R[k]] = std::sqrt(d[R[k]] / now.t[k]);
       continue;
     }
-    // The step d ← d ⊙ (1 + e): (diag(w) + D F D) e = 1 − w on R. Multiplied by A it is symmetric,
-    // K e = A ⊙ (w ⊙ e + d ⊙ F (d ⊙ e)), with the right-hand side A ⊙ (1 − w); preconditioned by
-    // diag(A ⊙ w). Solved to 1e-3 of the deviation: the step's own error is then below the
-    // quadratic term's.
+    // The step in x = log d, where the scaling minimises the convex Σ_ij A_i F_ij d_i d_j / 2 −
+    // Σ_i A_i log d_i: K e = A ⊙ (1 − w) with the Hessian K e = A ⊙ (w ⊙ e + d ⊙ F (d ⊙ e)),
+    // symmetric and diagonally dominant, so positive semi-definite; conjugate gradients solve it,
+    // preconditioned by diag(A ⊙ w), to 1e-3 of the deviation (the step's own error is then below
+    // the quadratic term's). The update d ⊙ exp(α e) keeps d positive.
+    const std::vector<double>& w = now.w;
     auto apply_K = [&](const std::vector<double>& x, std::vector<double>& out) {
-      for (std::size_t k = 0; k < R.size(); ++k) u[R[k]] = d[R[k]] * x[k];
+      for (std::size_t k = 0; k < m; ++k) u[R[k]] = d[R[k]] * x[k];
       multiply(u, out);
-      for (std::size_t k = 0; k < R.size(); ++k) {
+      for (std::size_t k = 0; k < m; ++k) {
         const std::size_t i = R[k];
         out[k] = area[i] * (w[k] * x[k] + d[i] * out[k]);
       }
     };
+    e.assign(m, 0.0), r.resize(m), z.resize(m), p.resize(m), q.resize(m);
     double rz = 0;
-    for (std::size_t k = 0; k < R.size(); ++k) {
-      e[k] = 0;
+    for (std::size_t k = 0; k < m; ++k) {
       r[k] = area[R[k]] * (1 - w[k]);
       z[k] = r[k] / (area[R[k]] * w[k]);
       p[k] = z[k];
       rz += r[k] * z[k];
     }
-    const double goal = std::max(1e-3 * deviation, 0.1 * tolerance);
+    const double goal = std::max(1e-3 * now.deviation, 0.1 * tolerance);
+    bool moved = false;
     while (passes < max_passes) {
       apply_K(p, q);
       double pq = 0;
-      for (std::size_t k = 0; k < R.size(); ++k) pq += p[k] * q[k];
-      if (!(pq > 0)) break;  // not positive definite along p: leave it to the passes
-      const double alpha = rz / pq;
+      for (std::size_t k = 0; k < m; ++k) pq += p[k] * q[k];
+      if (!(pq > 0)) break;  // p in K's null space (rounding): the step so far
+      moved = true;
+      const double step = rz / pq;
       double left = 0, rz_next = 0;
-      for (std::size_t k = 0; k < R.size(); ++k) {
-        e[k] += alpha * p[k];
-        r[k] -= alpha * q[k];
+      for (std::size_t k = 0; k < m; ++k) {
+        e[k] += step * p[k];
+        r[k] -= step * q[k];
         left = std::max(left, std::abs(r[k]) / area[R[k]]);
         z[k] = r[k] / (area[R[k]] * w[k]);
         rz_next += r[k] * z[k];
@@ -288,14 +313,19 @@ RowScaling symmetric_row_scaling(const std::vector<double>& F, std::size_t n, co
       if (left <= goal) break;
       const double beta = rz_next / rz;
       rz = rz_next;
-      for (std::size_t k = 0; k < R.size(); ++k) p[k] = z[k] + beta * p[k];
+      for (std::size_t k = 0; k < m; ++k) p[k] = z[k] + beta * p[k];
     }
-    for (std::size_t k = 0; k < R.size(); ++k)
-      if (!(1 + e[k] > 0)) newton = stepped = false;  // a step that would flip a sign: not near the solution
-    if (stepped)
-      for (std::size_t k = 0; k < R.size(); ++k) d[R[k]] *= 1 + e[k];
+    if (!moved) {  // no direction to step along: the sweeps from here
+      newton = false;
+      continue;
+    }
+    ++out.newton_steps;
+    base = now;
+    base.d = d;
+    pending = true, alpha = 1;
+    for (std::size_t k = 0; k < m; ++k) d[R[k]] *= std::exp(e[k]);
   }
-  out.deviation = deviation;
+  out.deviation = now.deviation;
   return out;
 }
 
