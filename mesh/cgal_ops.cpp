@@ -656,7 +656,10 @@ bool contact_segment(const Triangle& t, const Vector3& n, const Triangle& u, dou
 ContactImprint imprint_contacts(const std::vector<TriangleMesh>& meshes, double tolerance) {
   ContactImprint out;
   out.meshes = meshes;
-  for (const TriangleMesh& m : meshes) out.on_opposite_face.emplace_back(m.triangles.size(), 0);
+  for (const TriangleMesh& m : meshes) {
+    out.on_opposite_face.emplace_back(m.triangles.size(), 0);
+    out.opposite_mesh.emplace_back(m.triangles.size(), -1);
+  }
   struct Ref { int mesh, triangle; };
   std::vector<Ref> refs;
   Bounds3 all;
@@ -728,14 +731,17 @@ ContactImprint imprint_contacts(const std::vector<TriangleMesh>& meshes, double 
   for (int m = 0; m < static_cast<int>(meshes.size()); ++m) {
     out.meshes[m].triangles.clear();
     out.on_opposite_face[m].clear();
+    out.opposite_mesh[m].clear();
   }
   for (int r = 0; r < static_cast<int>(refs.size()); ++r) {
     TriangleMesh& mesh = out.meshes[refs[r].mesh];
     std::vector<char>& flags = out.on_opposite_face[refs[r].mesh];
+    std::vector<int>& opposite = out.opposite_mesh[refs[r].mesh];
     const auto& original = meshes[refs[r].mesh].triangles[refs[r].triangle];
     if (cuts[r].empty()) {
       mesh.triangles.push_back(original);
       flags.push_back(0);
+      opposite.push_back(-1);
       continue;
     }
     const Triangle t = meshes[refs[r].mesh].triangle(refs[r].triangle);
@@ -766,13 +772,14 @@ ContactImprint imprint_contacts(const std::vector<TriangleMesh>& meshes, double 
                                                    CGAL::squared_distance(c, a)}));
         if (2 * std::abs(CGAL::area(a, b, c)) <= 4 * eps * longest) continue;
       }
-      const bool on_opposite = std::any_of(facing[r].begin(), facing[r].end(), [&](int ui) {
+      const auto on = std::find_if(facing[r].begin(), facing[r].end(), [&](int ui) {
         const Triangle u = meshes[refs[ui].mesh].triangle(refs[ui].triangle);
         const P2 a = to_2d(u.v[0]), b = to_2d(u.v[1]), c = to_2d(u.v[2]);  // clockwise in t's frame
         return CGAL::orientation(a, b, centroid) != CGAL::LEFT_TURN &&
                CGAL::orientation(b, c, centroid) != CGAL::LEFT_TURN &&
                CGAL::orientation(c, a, centroid) != CGAL::LEFT_TURN;
       });
+      const bool on_opposite = on != facing[r].end();
       std::array<int, 3> tri{};
       for (int k = 0; k < 3; ++k) {
         const auto v = f->vertex(k);
@@ -787,6 +794,7 @@ ContactImprint imprint_contacts(const std::vector<TriangleMesh>& meshes, double 
       // The triangulation is counter-clockwise in (e1, e2), i.e. about n: t's orientation.
       mesh.triangles.push_back(tri);
       flags.push_back(on_opposite ? 1 : 0);
+      opposite.push_back(on_opposite ? refs[*on].mesh : -1);
       pieces_on_opposite += on_opposite;
       ++pieces;
     }

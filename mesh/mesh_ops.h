@@ -66,6 +66,7 @@ struct ContactImprint {
   // faces the other way. That is either contact (a box's bottom on a floor: nothing sees either face)
   // or the two faces of a sheet of zero thickness (both seen); only the solids around them tell.
   std::vector<std::vector<char>> on_opposite_face;
+  std::vector<std::vector<int>> opposite_mesh;  // per output triangle: the mesh of that face, or −1
   struct Overlap { int mesh_a, mesh_b; double area; };
   std::vector<Overlap> overlaps;     // coplanar faces of two meshes facing the same way, overlapping
 };

@@ -256,32 +256,61 @@ void check_patch_count(double patches, bool estimate, std::size_t solver_limit, 
 namespace {
 Solution solve_method(const Scene& scene, const SolveControl& control);
 
+// Whether a mesh bounds a solid: closed (its vector area Σ A n vanishes, as it does for any closed
+// surface, T-junctions or not) and enclosing a volume (which a sheet's two faces back to back do
+// not). Its faces may point out (a box) or in (a room).
+bool bounds_a_solid(const TriangleMesh& mesh) {
+  Vector3 vector_area{};
+  double area = 0, volume = 0;
+  const Point3 o = mesh.vertices.empty() ? Point3{} : mesh.vertices[0];
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const Triangle tri = mesh.triangle(t);
+    const Vector3 a = tri.v[0] - o, b = tri.v[1] - o, c = tri.v[2] - o;
+    const Vector3 twice = cross(b - a, c - a);
+    vector_area = vector_area + twice * 0.5;
+    area += 0.5 * length(twice);
+    volume += dot(a, cross(b, c)) / 6;
+  }
+  return area > 0 && length(vector_area) <= 1e-6 * area && std::abs(volume) > 1e-6 * area * std::sqrt(area);
+}
+
 // Pieces that lie on an opposite-facing coplanar face (imprint_contacts, on_opposite_face) are either
 // contact — a box's bottom on a floor, where the space in front of one of the two faces is inside the
 // other's solid — or the two faces of a sheet of zero thickness, in front of both of which is open
 // space. A hemisphere probe on each side of the piece tells them apart: if every ray from one side
 // hits the back of a surface, that side is inside a solid and the piece is contact, seen by nothing,
-// and removed. Returns the area removed (both faces counted).
-double remove_contact_pieces(ContactImprint& imprint) {
+// and removed. `surfaces`: the meshes as given (imprint's are cut). Returns the area removed (both
+// faces counted).
+double remove_contact_pieces(ContactImprint& imprint, const std::vector<Surface>& surfaces) {
+  std::vector<char> solid(surfaces.size());
+  for (std::size_t m = 0; m < surfaces.size(); ++m) solid[m] = bounds_a_solid(surfaces[m].mesh);
   std::vector<Triangle> all;
   std::vector<Vector3> normals;
+  std::vector<char> sheet;
   bool any = false;
   for (std::size_t m = 0; m < imprint.meshes.size(); ++m)
     for (std::size_t t = 0; t < imprint.meshes[m].triangles.size(); ++t) {
       all.push_back(imprint.meshes[m].triangle(t));
       // A flagged piece and its partner coincide, and a ray meets either of them: from inside a box
       // pushed into a room's corner it may meet the room's wall (facing into the box) instead of the
-      // box's own side. Such pairs count as back faces (a zero normal), whichever of them is hit.
+      // box's own side. Where either of the two bounds a solid, the pair counts as a back face (a
+      // zero normal), whichever of them is hit. Otherwise the two are a sheet's faces, and one of
+      // them faces the ray whichever is hit: a front face (a sheet facing another across a narrow
+      // gap would otherwise make the gap look like a solid's inside).
       const bool flagged = imprint.on_opposite_face[m][t] != 0;
-      normals.push_back(flagged ? Vector3{} : all.back().normal());
+      const int other = imprint.opposite_mesh[m][t];
+      const bool ambiguous = flagged && (solid[m] || (other >= 0 && solid[other]));
+      normals.push_back(ambiguous ? Vector3{} : all.back().normal());
+      sheet.push_back(flagged && !ambiguous);
       any |= flagged;
     }
   if (!any) return 0;
   const Visibility vis(all);
   constexpr int kRays = 64;  // a solid's interior sends every ray to a back face; one escape ends it
   auto inside_a_solid = [&](const Triangle& side, const Vector3& n, std::size_t seed) {
-    return probe_hemisphere(side, n, seed, kRays, vis,
-                            [&](int hit, const Vector3& d) { return dot(normals[hit], d) >= 0; }) == 3;
+    return probe_hemisphere(side, n, seed, kRays, vis, [&](int hit, const Vector3& d) {
+             return !sheet[hit] && dot(normals[hit], d) >= 0;
+           }) == 3;
   };
   double removed = 0;
   std::size_t index = 0;
@@ -337,7 +366,7 @@ Solution solve(const Scene& scene, const SolveControl& control) {
     meshes.push_back(std::move(merged.mesh));
   }
   ContactImprint imprint = imprint_contacts(meshes);
-  const double contact_area = remove_contact_pieces(imprint);
+  const double contact_area = remove_contact_pieces(imprint, scene.surfaces);
   std::vector<std::string> overlap_warnings;
   for (const auto& o : imprint.overlaps) {
     char text[64];

@@ -317,6 +317,40 @@ TEST(HardCases, TwoSidedSheetOfZeroThicknessCastsAShadow) {
   }
 }
 
+TEST(HardCases, FurnaceWithTwoSheetsFacingEachOtherAcrossANarrowGap) {
+  // Two sheets of zero thickness, each one surface with its two faces back to back, 1 m² and 1 cm
+  // (then 1 mm) apart in a closed room: a plate pair 1 % of its size apart, with open space in
+  // front of all four faces. None of them is contact (every face is kept: 2 m² per sheet), and
+  // with ρ = 0.999 and M = 1 every patch has B = 1000. (The gap once looked like a solid's inside,
+  // so the probe removed three of the four faces.)
+  for (double gap : {0.01, 0.001})
+    for (SolverMethod method : {SolverMethod::Dense, SolverMethod::Hierarchical}) {
+      SceneBuilder b;
+      const int grey = b.material("grey", 0.999);
+      b.surface("room", grey, box({0, 0, 0}, {3, 3, 3}, true), 1.0);
+      for (double z : {1.0, 1.0 + gap}) {
+        std::vector<Triangle> sheet = rectangle({1, 1, z}, {1, 0, 0}, {0, 1, 0});
+        for (const Triangle& t : rectangle({1, 1, z}, {0, 1, 0}, {1, 0, 0})) sheet.push_back(t);
+        b.surface(z == 1.0 ? "lower" : "upper", grey, sheet, 1.0);
+      }
+      b.max_patch_area(0.05);
+      b.scene().solver.method = method;
+      const Solution sol = solve(b.scene());
+      const char* what = method == SolverMethod::Dense ? "dense" : "hierarchical";
+      EXPECT_EQ(sol.stats.contact_area_m2, 0.0) << what << " " << gap;
+      double up[3] = {}, down[3] = {};
+      for (const Patch& p : sol.patches)
+        if (p.surface > 0) (p.normal.z > 0 ? up : down)[p.surface] += p.area_m2;
+      for (int s : {1, 2}) {
+        EXPECT_NEAR(up[s], 1.0, 1e-9) << what << " " << gap << " surface " << s;
+        EXPECT_NEAR(down[s], 1.0, 1e-9) << what << " " << gap << " surface " << s;
+      }
+      double worst = 0;
+      for (double v : sol.radiosity) worst = std::max(worst, std::abs(v / 1000 - 1));
+      EXPECT_LT(worst, 1e-9) << what << " " << gap;
+    }
+}
+
 TEST(HardCases, FurnaceWithBoxesInACornerStackedAndASheet) {
   // ρ = 0.999, M = 1 everywhere, B = 1000 on every patch that takes part: a box pushed against a wall
   // and standing on the floor (two contacts, each hiding part of the other's view of its interior), a

@@ -651,6 +651,12 @@ TEST(ImprintContacts, FaceToFacePiecesAreCutAndFlagged) {
     const bool under = g.x > -0.5 && g.x < 0.1 && g.y > -0.2 && g.y < 0.4;
     EXPECT_EQ(r.on_opposite_face[0][t] != 0, under) << "piece " << t;
   }
+  // Each flagged piece names the mesh of the face it lies on.
+  for (std::size_t m = 0; m < 2; ++m) {
+    ASSERT_EQ(r.opposite_mesh[m].size(), r.meshes[m].triangles.size());
+    for (std::size_t t = 0; t < r.meshes[m].triangles.size(); ++t)
+      EXPECT_EQ(r.opposite_mesh[m][t], r.on_opposite_face[m][t] ? int(1 - m) : -1) << m << " " << t;
+  }
 }
 
 TEST(ImprintContacts, NoSliversWhereFootprintsCrossTheFloorsDiagonal) {
