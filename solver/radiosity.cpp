@@ -256,22 +256,65 @@ void check_patch_count(double patches, bool estimate, std::size_t solver_limit, 
 namespace {
 Solution solve_method(const Scene& scene, const SolveControl& control);
 
-// Whether a mesh bounds a solid: closed (its vector area Σ A n vanishes, as it does for any closed
-// surface, T-junctions or not) and enclosing a volume (which a sheet's two faces back to back do
-// not). Its faces may point out (a box) or in (a room).
-bool bounds_a_solid(const TriangleMesh& mesh) {
-  Vector3 vector_area{};
-  double area = 0, volume = 0;
-  const Point3 o = mesh.vertices.empty() ? Point3{} : mesh.vertices[0];
-  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
-    const Triangle tri = mesh.triangle(t);
-    const Vector3 a = tri.v[0] - o, b = tri.v[1] - o, c = tri.v[2] - o;
-    const Vector3 twice = cross(b - a, c - a);
-    vector_area = vector_area + twice * 0.5;
-    area += 0.5 * length(twice);
-    volume += dot(a, cross(b, c)) / 6;
+// Which surfaces bound a solid, alone or with others (a box given as six surfaces, one per face):
+// the triangles of all surfaces are joined into components across edges whose ends coincide, and a
+// component bounds a solid when it is closed (its vector area Σ A n vanishes, as it does for any
+// closed surface, T-junctions or not) and encloses a volume (which a sheet's two faces back to back
+// do not); its faces may point out (a box) or in (a room). A surface bounds a solid when any of its
+// triangles is in such a component.
+std::vector<char> surfaces_bounding_solids(const std::vector<Surface>& surfaces) {
+  struct Key {
+    std::size_t operator()(const std::array<double, 3>& p) const {
+      std::size_t h = 0;
+      for (double x : p) h = h * 1000003u ^ std::hash<double>{}(x);
+      return h;
+    }
+  };
+  std::unordered_map<std::array<double, 3>, int, Key> vertex;
+  std::map<std::pair<int, int>, int> edge;  // an edge's ends → the first triangle on it
+  std::vector<int> parent;                  // union–find over all triangles
+  auto root = [&](int x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  std::vector<Triangle> all;
+  std::vector<int> owner;  // surface of each triangle
+  for (std::size_t s = 0; s < surfaces.size(); ++s)
+    for (std::size_t t = 0; t < surfaces[s].mesh.triangles.size(); ++t) {
+      const Triangle tri = surfaces[s].mesh.triangle(t);
+      const int id = static_cast<int>(all.size());
+      all.push_back(tri), owner.push_back(static_cast<int>(s)), parent.push_back(id);
+      std::array<int, 3> v{};
+      for (int k = 0; k < 3; ++k) {  // (+ 0.0 makes −0 into +0, which compare equal and must hash so)
+        const Point3& p = tri.v[k];
+        v[k] = vertex.try_emplace({p.x + 0.0, p.y + 0.0, p.z + 0.0}, static_cast<int>(vertex.size())).first->second;
+      }
+      for (int k = 0; k < 3; ++k) {
+        const auto [it, added] = edge.try_emplace(std::minmax(v[k], v[(k + 1) % 3]), id);
+        if (!added) parent[root(id)] = root(it->second);
+      }
+    }
+  struct Sums {
+    Vector3 vector_area{};
+    double area = 0, volume = 0;
+  };
+  std::vector<Sums> sums(all.size());
+  const Point3 o = all.empty() ? Point3{} : all[0].v[0];
+  for (std::size_t t = 0; t < all.size(); ++t) {
+    Sums& c = sums[root(static_cast<int>(t))];
+    const Vector3 a = all[t].v[0] - o, b = all[t].v[1] - o, d = all[t].v[2] - o;
+    const Vector3 twice = cross(b - a, d - a);
+    c.vector_area = c.vector_area + twice * 0.5;
+    c.area += 0.5 * length(twice);
+    c.volume += dot(a, cross(b, d)) / 6;
   }
-  return area > 0 && length(vector_area) <= 1e-6 * area && std::abs(volume) > 1e-6 * area * std::sqrt(area);
+  std::vector<char> solid(surfaces.size(), 0);
+  for (std::size_t t = 0; t < all.size(); ++t) {
+    const Sums& c = sums[root(static_cast<int>(t))];
+    if (c.area > 0 && length(c.vector_area) <= 1e-6 * c.area && std::abs(c.volume) > 1e-6 * c.area * std::sqrt(c.area))
+      solid[owner[t]] = 1;
+  }
+  return solid;
 }
 
 // Pieces that lie on an opposite-facing coplanar face (imprint_contacts, on_opposite_face) are either
@@ -282,12 +325,14 @@ bool bounds_a_solid(const TriangleMesh& mesh) {
 // and removed. `surfaces`: the meshes as given (imprint's are cut). Returns the area removed (both
 // faces counted).
 double remove_contact_pieces(ContactImprint& imprint, const std::vector<Surface>& surfaces) {
-  std::vector<char> solid(surfaces.size());
-  for (std::size_t m = 0; m < surfaces.size(); ++m) solid[m] = bounds_a_solid(surfaces[m].mesh);
+  bool any = false;
+  for (const std::vector<char>& flags : imprint.on_opposite_face)
+    any |= std::any_of(flags.begin(), flags.end(), [](char f) { return f != 0; });
+  if (!any) return 0;
+  const std::vector<char> solid = surfaces_bounding_solids(surfaces);
   std::vector<Triangle> all;
   std::vector<Vector3> normals;
   std::vector<char> sheet;
-  bool any = false;
   for (std::size_t m = 0; m < imprint.meshes.size(); ++m)
     for (std::size_t t = 0; t < imprint.meshes[m].triangles.size(); ++t) {
       all.push_back(imprint.meshes[m].triangle(t));
@@ -302,9 +347,7 @@ double remove_contact_pieces(ContactImprint& imprint, const std::vector<Surface>
       const bool ambiguous = flagged && (solid[m] || (other >= 0 && solid[other]));
       normals.push_back(ambiguous ? Vector3{} : all.back().normal());
       sheet.push_back(flagged && !ambiguous);
-      any |= flagged;
     }
-  if (!any) return 0;
   const Visibility vis(all);
   constexpr int kRays = 64;  // a solid's interior sends every ray to a back face; one escape ends it
   auto inside_a_solid = [&](const Triangle& side, const Vector3& n, std::size_t seed) {

@@ -351,6 +351,32 @@ TEST(HardCases, FurnaceWithTwoSheetsFacingEachOtherAcrossANarrowGap) {
     }
 }
 
+TEST(HardCases, ABoxGivenFaceByFaceInARoomGivenFaceByFaceIsStillASolid) {
+  // A box pushed into a room's corner (standing on the floor, against a wall), the room and the box
+  // each given as six surfaces, one per face: no surface is closed on its own, but the faces that
+  // meet along their edges bound two solids, so the box's bottom and its side against the wall are
+  // contact (2 × (1 + 1) m², both faces counted), as when each is one surface. ρ = 0.999, M = 1:
+  // B = 1000 on every patch, and no patch sees the back of a surface.
+  for (SolverMethod method : {SolverMethod::Dense, SolverMethod::Hierarchical}) {
+    SceneBuilder b;
+    const int grey = b.material("grey", 0.999);
+    for (const auto& [name, triangles] : {std::pair{"room", box({0, 0, 0}, {5, 4, 3}, true)},
+                                          std::pair{"box", box({0, 1, 0}, {1, 2, 1}, false)}})
+      for (std::size_t face = 0; face < 6; ++face)
+        b.surface(std::string(name) + " " + std::to_string(face), grey,
+                  {triangles[2 * face], triangles[2 * face + 1]}, 1.0);
+    b.max_patch_area(0.05);
+    b.scene().solver.method = method;
+    const Solution sol = solve(b.scene());
+    const char* what = method == SolverMethod::Dense ? "dense" : "hierarchical";
+    EXPECT_NEAR(sol.stats.contact_area_m2, 4.0, 1e-9) << what;
+    double worst = 0;
+    for (double v : sol.radiosity) worst = std::max(worst, std::abs(v / 1000 - 1));
+    EXPECT_LT(worst, 1e-9) << what;
+    for (const std::string& w : sol.warnings) EXPECT_EQ(w.find("back of a surface"), std::string::npos) << what << ": " << w;
+  }
+}
+
 TEST(HardCases, FurnaceWithBoxesInACornerStackedAndASheet) {
   // ρ = 0.999, M = 1 everywhere, B = 1000 on every patch that takes part: a box pushed against a wall
   // and standing on the floor (two contacts, each hiding part of the other's view of its interior), a
