@@ -857,6 +857,12 @@ Solution solve_dense(const Scene& scene, const SolveControl& control, const std:
     std::vector<RadiositySystem> systems;
     std::map<std::pair<std::vector<double>, std::vector<double>>, std::size_t> system_of;
     std::vector<std::vector<std::size_t>> system_for(sets.size(), std::vector<std::size_t>(W));
+    // The patches that are not unknowns, and of those the ones emitting at the wavelength at hand
+    // (a short list: scanning every column of every row for them, 61 wavelengths over the Cornell
+    // box's 1 507 patches, took a sixth of a second).
+    std::vector<std::size_t> inactive, emitting;
+    for (std::size_t j = 0; j < N; ++j)
+      if (!is_active[j]) inactive.push_back(j);
     for (const auto& [key, wavelengths] : groups) {
       std::vector<double> rho_column(n);
       for (std::size_t r = 0; r < n; ++r) rho_column[r] = rho[active[r] * W + wavelengths.front()];
@@ -864,13 +870,14 @@ Solution solve_dense(const Scene& scene, const SolveControl& control, const std:
         const std::vector<double>& Ms = *sets[set].first;
         const std::vector<double>& Es = *sets[set].second;
         for (std::size_t w : wavelengths) {
+          emitting.clear();
+          for (std::size_t j : inactive)
+            if (Ms[j * W + w] != 0) emitting.push_back(j);
           std::vector<double> rhs(n);
           for (std::size_t r = 0; r < n; ++r) {
             const std::size_t i = active[r];
             double from_black = 0;
-            if (n < N)
-              for (std::size_t j = 0; j < N; ++j)
-                if (!is_active[j] && Ms[j * W + w] != 0) from_black += F[i * N + j] * Ms[j * W + w];
+            for (std::size_t j : emitting) from_black += F[i * N + j] * Ms[j * W + w];
             rhs[r] = Ms[i * W + w] + rho_column[r] * (Es[i * W + w] + from_black);
           }
           auto [it, inserted] = system_of.try_emplace({rho_column, rhs}, systems.size());
