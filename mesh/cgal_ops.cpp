@@ -330,19 +330,7 @@ MeshHealth check_mesh(const TriangleMesh& mesh) {
 
   // Weld vertices at identical positions, so that adjacency is geometric: a mesh whose faces
   // carry their own copies of shared corners (common in OBJ exports) is still closed.
-  std::vector<int> weld(nv, -1);
-  {
-    std::vector<int> order;
-    for (int i = 0; i < nv; ++i)
-      if (is_finite(mesh.vertices[i])) order.push_back(i);
-    auto key = [&](int i) {
-      const Point3& p = mesh.vertices[i];
-      return std::make_tuple(p.x, p.y, p.z);
-    };
-    std::stable_sort(order.begin(), order.end(), [&](int i, int j) { return key(i) < key(j); });
-    for (std::size_t k = 0; k < order.size(); ++k)
-      weld[order[k]] = (k > 0 && key(order[k]) == key(order[k - 1])) ? weld[order[k - 1]] : order[k];
-  }
+  const std::vector<int> weld = weld_identical_positions(mesh.vertices);
   std::vector<P3> pts(nv);
   for (int i = 0; i < nv; ++i) pts[i] = is_finite(mesh.vertices[i]) ? to_cgal(mesh.vertices[i]) : P3();
 

@@ -104,6 +104,22 @@ struct TriangleMesh {
   }
 };
 
+// Welds points at identical positions: out[i] is the same index for every point with p_i's exact
+// coordinates (that of the first of them in sorted order), −1 for a point that is not finite.
+// Adjacency is then geometric: faces that carry their own copies of shared corners (OBJ exports, a
+// box given as six surfaces) still meet.
+inline std::vector<int> weld_identical_positions(const std::vector<Point3>& points) {
+  std::vector<int> weld(points.size(), -1), order;
+  for (std::size_t i = 0; i < points.size(); ++i)
+    if (std::isfinite(points[i].x) && std::isfinite(points[i].y) && std::isfinite(points[i].z))
+      order.push_back(static_cast<int>(i));
+  auto key = [&](int i) { return std::make_tuple(points[i].x, points[i].y, points[i].z); };
+  std::stable_sort(order.begin(), order.end(), [&](int i, int j) { return key(i) < key(j); });
+  for (std::size_t k = 0; k < order.size(); ++k)
+    weld[order[k]] = (k > 0 && key(order[k]) == key(order[k - 1])) ? weld[order[k - 1]] : order[k];
+  return weld;
+}
+
 // Axis-aligned bounding box, empty until a point is added.
 struct Bounds3 {
   Point3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};

@@ -263,36 +263,26 @@ Solution solve_method(const Scene& scene, const SolveControl& control);
 // do not); its faces may point out (a box) or in (a room). A surface bounds a solid when any of its
 // triangles is in such a component.
 std::vector<char> surfaces_bounding_solids(const std::vector<Surface>& surfaces) {
-  struct Key {
-    std::size_t operator()(const std::array<double, 3>& p) const {
-      std::size_t h = 0;
-      for (double x : p) h = h * 1000003u ^ std::hash<double>{}(x);
-      return h;
+  std::vector<Triangle> all;
+  std::vector<int> owner;  // surface of each triangle
+  std::vector<Point3> corners;
+  for (std::size_t s = 0; s < surfaces.size(); ++s)
+    for (std::size_t t = 0; t < surfaces[s].mesh.triangles.size(); ++t) {
+      all.push_back(surfaces[s].mesh.triangle(t)), owner.push_back(static_cast<int>(s));
+      for (const Point3& p : all.back().v) corners.push_back(p);
     }
-  };
-  std::unordered_map<std::array<double, 3>, int, Key> vertex;
-  std::map<std::pair<int, int>, int> edge;  // an edge's ends → the first triangle on it
-  std::vector<int> parent;                  // union–find over all triangles
+  const std::vector<int> vertex = weld_identical_positions(corners);  // corner 3 t + k → its position
+  std::vector<int> parent(all.size());  // union–find over the triangles
+  std::iota(parent.begin(), parent.end(), 0);
   auto root = [&](int x) {
     while (parent[x] != x) x = parent[x] = parent[parent[x]];
     return x;
   };
-  std::vector<Triangle> all;
-  std::vector<int> owner;  // surface of each triangle
-  for (std::size_t s = 0; s < surfaces.size(); ++s)
-    for (std::size_t t = 0; t < surfaces[s].mesh.triangles.size(); ++t) {
-      const Triangle tri = surfaces[s].mesh.triangle(t);
-      const int id = static_cast<int>(all.size());
-      all.push_back(tri), owner.push_back(static_cast<int>(s)), parent.push_back(id);
-      std::array<int, 3> v{};
-      for (int k = 0; k < 3; ++k) {  // (+ 0.0 makes −0 into +0, which compare equal and must hash so)
-        const Point3& p = tri.v[k];
-        v[k] = vertex.try_emplace({p.x + 0.0, p.y + 0.0, p.z + 0.0}, static_cast<int>(vertex.size())).first->second;
-      }
-      for (int k = 0; k < 3; ++k) {
-        const auto [it, added] = edge.try_emplace(std::minmax(v[k], v[(k + 1) % 3]), id);
-        if (!added) parent[root(id)] = root(it->second);
-      }
+  std::map<std::pair<int, int>, int> edge;  // an edge's ends → the first triangle on it
+  for (int t = 0; t < static_cast<int>(all.size()); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const auto [it, added] = edge.try_emplace(std::minmax(vertex[3 * t + k], vertex[3 * t + (k + 1) % 3]), t);
+      if (!added) parent[root(t)] = root(it->second);
     }
   struct Sums {
     Vector3 vector_area{};
