@@ -33,15 +33,40 @@ inline double atan_over_t(double z) {
   return 1 + z * p;
 }
 
+// The angle atan2(s, d) ∈ [0, π] between two vectors with |a × b| = s ≥ 0 and a · b = d, without
+// atan2 and without branches (selects only, so that it vectorises in point_triangle_factors' lanes):
+// folded onto t = min(s, |d|) / max(s, |d|) ∈ [0, 1] by symmetry, then reduced about the nearest of
+// 0, tan(π/8), 1 to |u| ≤ tan(π/16) with atan(t) = atan(c) + atan(u), u = (t − c) / (1 + t c), where
+// atan_over_t's series is exact to about 10⁻¹⁸ (tested against std::atan2 to 4 ulp).
+inline double edge_angle(double s, double d) {
+  constexpr double kTanPi8 = 0.41421356237309504880;             // tan(π/8) = √2 − 1
+  constexpr double kLow = 0.19891236737965800691, kHigh = 0.66817863791929891999;  // tan(π/16), tan(3π/16)
+  const double ad = std::abs(d);
+  const bool swap = s > ad;
+  const double num = swap ? ad : s, den = swap ? s : ad;
+  const double t = den > 0 ? num / den : 0.0;
+  const bool high = t > kHigh, mid = t > kLow;
+  const double c = high ? 1.0 : (mid ? kTanPi8 : 0.0);
+  const double base = high ? kPi / 4 : (mid ? kPi / 8 : 0.0);
+  const double u = (t - c) / (1 + t * c);
+  const double a = base + u * atan_over_t(u * u);  // atan(t), in [0, π/4]
+  const double b = swap ? kPi / 2 - a : a;
+  return d < 0 ? kPi - b : b;
+}
+
 // Lambert/Hottel contour sum for a polygon (given as vectors R_i from p) wholly in front of p's plane
 // and counter-clockwise about its own front normal as seen from p. For that orientation each edge
 // contributes γ_i n·c_i/|c_i| ≥ 0 to 2π F, with c_i = R_{i+1} × R_i and γ_i = atan2(|c_i|, R_i·R_{i+1})
 // the angle the edge subtends. Edges seen under less than 14° (|c| ≤ R_i·R_{i+1}/4: all edges of all
 // but nearby patches) use γ/|c| = atan_over_t(|c|²/(R_i·R_{i+1})²)/(R_i·R_{i+1}), which needs neither
-// the square root nor atan2 and is about six times faster: every form factor evaluates 21 edges.
-// An edge's term γ n·c/|c| by the series, for d = R_i·R_{i+1} > 0 and 16 |c|² ≤ d² (nc = n·c): the one
-// expression of contour_sum and of point_triangle_factors' lanes, so both give the same value.
+// the square root nor the angle's reduction; wider ones edge_angle.
+// An edge's term γ n·c/|c| for nc = n·c, c2 = |c|², d = R_i·R_{i+1}: the one expression of contour_sum
+// and of point_triangle_factors' lanes, so both give the same value.
 inline double series_edge_term(double nc, double c2, double d) { return nc * atan_over_t(c2 / (d * d)) / d; }
+inline double wide_edge_term(double nc, double c2, double d) {
+  const double s = std::sqrt(c2);
+  return s > 0 ? edge_angle(s, d) * nc / s : 0.0;  // s = 0: parallel (γ = 0), or p on the edge's line
+}
 
 double contour_sum(const Vector3& n, const Vector3* R, int count) {
   double sum = 0;
@@ -50,13 +75,8 @@ double contour_sum(const Vector3& n, const Vector3* R, int count) {
     const Vector3& b = R[(i + 1) % count];
     const Vector3 c = cross(b, a);
     const double c2 = length_squared(c), d = dot(a, b);
-    if (d > 0 && 16 * c2 <= d * d) {
-      sum += series_edge_term(dot(n, c), c2, d);
-      continue;
-    }
-    const double c_len = std::sqrt(c2);
-    if (c_len == 0) continue;  // parallel (γ = 0) or p on the edge line (measure-zero case)
-    sum += std::atan2(c_len, d) * dot(n, c) / c_len;
+    if (d > 0 && 16 * c2 <= d * d) sum += series_edge_term(dot(n, c), c2, d);
+    else sum += wide_edge_term(dot(n, c), c2, d);
   }
   return sum;
 }
@@ -112,17 +132,21 @@ __attribute__((target_clones("avx2", "default"))) void point_triangle_factors(st
                                                                               std::span<double> out) {
   // Lanes of kLanes points in separate coordinate arrays, every branch of the common case written as
   // a select, so that the compiler vectorises the loops over lanes. The common case is
-  // point_triangle_factor's: p in front of t, t wholly above p's horizon, and every edge seen under
-  // less than 14° (contour_sum's series); the same arithmetic per point, so the same value.
+  // point_triangle_factor's: p in front of t and t wholly above p's horizon; the same arithmetic per
+  // point (each edge's series or wide term, as contour_sum chooses), so the same value.
   constexpr int kLanes = 8;
   const Vector3 area = cross(t.v[1] - t.v[0], t.v[2] - t.v[0]);
   for (std::size_t first = 0; first < points.size(); first += kLanes) {
     const int used = static_cast<int>(std::min<std::size_t>(kLanes, points.size() - first));
-    double x[kLanes], y[kLanes], z[kLanes], sum[kLanes], series[kLanes];  // series: 1 or 0
+    double x[kLanes], y[kLanes], z[kLanes], sum[kLanes], series[kLanes], above[kLanes];  // 1 or 0
     for (int l = 0; l < kLanes; ++l) {
       const Point3& p = points[first + std::min(l, used - 1)];  // unused lanes repeat the last point
-      x[l] = p.x, y[l] = p.y, z[l] = p.z, sum[l] = 0, series[l] = 1;
+      x[l] = p.x, y[l] = p.y, z[l] = p.z, sum[l] = 0, series[l] = 1, above[l] = 1;
     }
+    // The series terms first (nearly all lanes of far points need nothing else); then, only where
+    // some lane has an edge seen under more than 14°, every lane's sum again with each edge's series
+    // or wide term (a square root, two divisions and the angle's reduction). Computing both for
+    // every lane in one pass made the batch slower than the calls one by one.
     for (int k = 0; k < 3; ++k) {
       const Point3& A = t.v[k];
       const Point3& B = t.v[(k + 1) % 3];
@@ -132,17 +156,37 @@ __attribute__((target_clones("avx2", "default"))) void point_triangle_factors(st
         const double cx = by * az - bz * ay, cy = bz * ax - bx * az, cz = bx * ay - by * ax;  // c = b × a
         const double c2 = cx * cx + cy * cy + cz * cz, d = ax * bx + ay * by + az * bz;
         const double horizon = ax * n.x + ay * n.y + az * n.z;
-        const bool good = (d > 0) & (16 * c2 <= d * d) & (horizon >= 0);
+        const bool good = (d > 0) & (16 * c2 <= d * d);
         const double dd = good ? d : 1.0;
         const double term = series_edge_term(n.x * cx + n.y * cy + n.z * cz, c2, dd);
         sum[l] += good ? term : 0.0;
         series[l] = good ? series[l] : 0.0;
+        above[l] = horizon >= 0 ? above[l] : 0.0;
+      }
+    }
+    double all_series = 1;
+    for (int l = 0; l < kLanes; ++l) all_series = std::min(all_series, series[l]);
+    if (all_series == 0) {
+      for (int l = 0; l < kLanes; ++l) sum[l] = 0;
+      for (int k = 0; k < 3; ++k) {
+        const Point3& A = t.v[k];
+        const Point3& B = t.v[(k + 1) % 3];
+        for (int l = 0; l < kLanes; ++l) {
+          const double ax = A.x - x[l], ay = A.y - y[l], az = A.z - z[l];
+          const double bx = B.x - x[l], by = B.y - y[l], bz = B.z - z[l];
+          const double cx = by * az - bz * ay, cy = bz * ax - bx * az, cz = bx * ay - by * ax;
+          const double c2 = cx * cx + cy * cy + cz * cz, d = ax * bx + ay * by + az * bz;
+          const double nc = n.x * cx + n.y * cy + n.z * cz;
+          const bool good = (d > 0) & (16 * c2 <= d * d);
+          const double dd = good ? d : 1.0;
+          sum[l] += good ? series_edge_term(nc, c2, dd) : wide_edge_term(nc, c2, d);
+        }
       }
     }
     for (int l = 0; l < used; ++l) {
       const Point3& p = points[first + l];
       if (dot(t.v[0] - p, area) >= 0) out[first + l] = 0;  // p not in front
-      else if (series[l] != 0) out[first + l] = std::max(0.0, sum[l] / (2 * kPi));
+      else if (above[l] != 0) out[first + l] = std::max(0.0, sum[l] / (2 * kPi));
       else out[first + l] = point_triangle_factor(p, n, t);
     }
   }
@@ -191,15 +235,12 @@ double front_area_form_factor(const Triangle& receiver, const Triangle& source, 
   const Point3 cr = receiver.centroid(), cs = source.centroid();
   const double separation =
       distance(cr, cs) / (receiver.bounding_radius() + source.bounding_radius());
-  auto kernel = [&](const Point3& p) { return point_triangle_factor(p, n, source); };
-  // The batched kernel where its vectorised lanes will serve (the source's edges are seen under less
-  // than 14° from every node): beyond separation 2. Nearer, most nodes would fall back to the point
-  // kernel after the lanes, and the adaptive cubature below is all near.
+  // The batched kernel: its vectorised lanes serve every node but those whose horizon crosses the
+  // source (which it hands to the point kernel).
   auto batch = [&](std::span<const Point3> points, std::span<double> values) {
     point_triangle_factors(points, n, source, values);
   };
-  const double coarse = separation > 2 ? apply_rule(triangle_rule_degree5(), receiver, batch)
-                                       : apply_rule(triangle_rule_degree5(), receiver, kernel);
+  const double coarse = apply_rule(triangle_rule_degree5(), receiver, batch);
   // Well separated pairs: the integrand is smooth on the scale of the receiver and the degree-5 rule
   // is accurate far below the tolerance (measured in form_factor_test, "far field"). A pair wholly in
   // front of each other's planes has no horizon crossing the receiver, and its integrand is smooth
@@ -214,7 +255,7 @@ double front_area_form_factor(const Triangle& receiver, const Triangle& source, 
   }
   const double tolerance = std::max(options.abs_tolerance * receiver.area(),
                                     options.rel_tolerance * std::abs(coarse));
-  return integrate_adaptive(receiver, kernel, coarse, tolerance, options.max_depth);
+  return integrate_adaptive(receiver, batch, coarse, tolerance, options.max_depth);
 }
 
 }  // namespace

@@ -21,9 +21,10 @@ namespace lambert {
 double point_polygon_factor(const Point3& p, const Vector3& n, std::span<const Point3> polygon);
 double point_triangle_factor(const Point3& p, const Vector3& n, const Triangle& t);
 // point_triangle_factor at every point of `points` (a common normal n), into out (the same size).
-// Points in the common case (t in front, above the horizon, every edge seen under less than 14°: all
-// but nearby points) are evaluated together in vectorised lanes, the rest one by one; each value is
-// point_triangle_factor's. 7 points: 143 ns against 360 ns one call each (kernels_benchmark, AVX2).
+// Points in the common case (t in front and wholly above the horizon: all but points next to t's
+// plane) are evaluated together in vectorised lanes, the rest one by one; each value is
+// point_triangle_factor's. 7 points: 143 ns against 360 ns one call each (kernels_benchmark, AVX2,
+// before the lanes took edges seen under more than 14°).
 void point_triangle_factors(std::span<const Point3> points, const Vector3& n, const Triangle& t, std::span<double> out);
 
 // The contour sum alone, signed, for a closed boundary (any number of vertices) that lies wholly in

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <random>
 #include <vector>
 
@@ -115,6 +116,62 @@ TEST(PointTriangleFactors, TheBatchGivesEachPointsOwnFactor) {
   EXPECT_GT(fast, 1000);
   EXPECT_GT(fallback, 1000);
   EXPECT_GT(zero, 200);
+}
+
+// Hottel's contour sum with std::atan2 for every edge: the formula of form_factor.h written out
+// independently, for a triangle wholly above p's horizon and facing p.
+double hottel_with_atan2(const Point3& p, const Vector3& n, const Triangle& t) {
+  double sum = 0;
+  for (int k = 0; k < 3; ++k) {
+    const Vector3 a = t.v[k] - p, b = t.v[(k + 1) % 3] - p;
+    const Vector3 c = cross(b, a);
+    const double len = length(c);
+    if (len > 0) sum += std::atan2(len, dot(a, b)) * dot(n, c) / len;
+  }
+  return sum / (2 * kPi);
+}
+
+TEST(PointTriangleFactors, WideAnglesAgreeWithAtan2) {
+  // Points close to a source see its edges under up to nearly 180°, where neither kernel may use
+  // the small-angle series: the angle is reduced about 0, π/8 and π/4 instead of calling atan2
+  // (and the batch takes those points in its lanes too). Both against the formula with std::atan2.
+  std::mt19937_64 random(11);
+  std::uniform_real_distribution<double> u(0, 1);
+  const Triangle source{{Point3{0, 0, 1}, Point3{0.4, 0, 0.95}, Point3{0, 0.3, 1.05}}};
+  const Vector3 ns = source.normal();
+  std::vector<Point3> points;
+  std::vector<Vector3> normals;
+  for (int tries = 0; points.size() < 2000 && tries < 100000; ++tries) {
+    // A point in front of the source, 1e-3 to 1 of its size away, with a normal that keeps the whole
+    // source above its horizon.
+    const double a = u(random), b = u(random) * (1 - a);
+    const Point3 on = barycentric(source.v[0], source.v[1], source.v[2], 1 - a - b, a, b);
+    const double h = 0.4 * std::pow(10.0, -3 * u(random));
+    const Point3 p = on + ns * h;
+    // Facing the source, tilted by up to about h over its size (more would put corners below the horizon).
+    const Vector3 n = normalize(-ns + Vector3{h * (u(random) - 0.5), h * (u(random) - 0.5), 0});
+    bool above = true;
+    for (const Point3& v : source.v) above = above && dot(v - p, n) > 0;
+    if (above) points.push_back(p), normals.push_back(n);
+  }
+  ASSERT_EQ(points.size(), 2000u);
+  double worst_point = 0, worst_batch = 0;
+  int wide = 0;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const double reference = hottel_with_atan2(points[i], normals[i], source);
+    ASSERT_GT(reference, 0);
+    worst_point = std::max(worst_point, std::abs(point_triangle_factor(points[i], normals[i], source) / reference - 1));
+    std::array<double, 1> batched{};
+    point_triangle_factors(std::span<const Point3>(&points[i], 1), normals[i], source, batched);
+    worst_batch = std::max(worst_batch, std::abs(batched[0] / reference - 1));
+    for (int k = 0; k < 3; ++k) {
+      const Vector3 e0 = source.v[k] - points[i], e1 = source.v[(k + 1) % 3] - points[i];
+      wide += 16 * length_squared(cross(e1, e0)) > dot(e0, e1) * dot(e0, e1);
+    }
+  }
+  EXPECT_GT(wide, 3000);  // most edges are seen under more than 14°
+  EXPECT_LT(worst_point, 1e-13);
+  EXPECT_LT(worst_batch, 1e-13);
 }
 
 TEST(SolidAngle, SquareCentredAbovePoint) {

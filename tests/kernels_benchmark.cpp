@@ -59,6 +59,29 @@ void BM_PointTriangleFactorsBatch7(benchmark::State& state) {
 }
 BENCHMARK(BM_PointTriangleFactorsBatch7);
 
+// The same against a source seen under wide angles (a 1 m triangle 0.5 m away): every edge takes
+// the angle's reduction instead of the small-angle series.
+const Triangle kWideSource{{Point3{-0.5, -0.5, 0.5}, Point3{0, 0.6, 0.5}, Point3{0.5, -0.5, 0.5}}};
+void BM_PointTriangleFactor7Wide(benchmark::State& state) {
+  const std::vector<Point3> points = receiver_points();
+  for (auto _ : state) {
+    double sum = 0;
+    for (const Point3& p : points) sum += point_triangle_factor(p, {0, 0, 1}, kWideSource);
+    benchmark::DoNotOptimize(sum);
+  }
+}
+BENCHMARK(BM_PointTriangleFactor7Wide);
+
+void BM_PointTriangleFactorsBatch7Wide(benchmark::State& state) {
+  const std::vector<Point3> points = receiver_points();
+  std::vector<double> out(points.size());
+  for (auto _ : state) {
+    point_triangle_factors(points, {0, 0, 1}, kWideSource, out);
+    benchmark::DoNotOptimize(out.data());
+  }
+}
+BENCHMARK(BM_PointTriangleFactorsBatch7Wide);
+
 void BM_AreaFormFactor(benchmark::State& state) {
   // state.range(0): distance between the patches in units of 1 mm (patch size 50 mm).
   const double h = state.range(0) * 1e-3;
