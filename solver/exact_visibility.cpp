@@ -140,6 +140,7 @@ struct ExactVisibility::Impl {
   };
   Point3 centre;                   // occluders are stored relative to it (geo-referenced scenes)
   std::vector<Triangle> triangles;
+  std::vector<char> outward_solid;  // per triangle (see the constructor)
   std::vector<int> order;
   std::vector<Node> nodes;
 
@@ -168,12 +169,13 @@ struct ExactVisibility::Impl {
     return index;
   }
 
-  // Calls visit(triangle) for the triangles in leaves whose boxes meet the region, until it returns
-  // true; returns whether one did.
+  // Calls visit(triangle, outward_solid) for the triangles in leaves whose boxes meet the region,
+  // until it returns true; returns whether one did.
   template <class Visit>
   bool query(std::span<const HalfSpace> region, Visit&& visit) const {
     if (nodes.empty()) return false;
-    std::vector<int> stack = {0};
+    thread_local std::vector<int> stack;  // reused: one allocation per thread, not per query
+    stack.assign(1, 0);
     while (!stack.empty()) {
       const Node& node = nodes[stack.back()];
       const int index = stack.back();
@@ -182,7 +184,7 @@ struct ExactVisibility::Impl {
         continue;
       if (node.right < 0) {
         for (int k = node.first; k < node.first + node.count; ++k)
-          if (visit(triangles[order[k]])) return true;
+          if (visit(triangles[order[k]], outward_solid[order[k]] != 0)) return true;
       } else {
         stack.push_back(node.right);
         stack.push_back(index + 1);
@@ -192,17 +194,20 @@ struct ExactVisibility::Impl {
   }
 };
 
-ExactVisibility::ExactVisibility(std::span<const Triangle> occluders) : impl_(std::make_unique<Impl>()) {
+ExactVisibility::ExactVisibility(std::span<const Triangle> occluders, std::span<const char> outward_solid)
+    : impl_(std::make_unique<Impl>()) {
   Bounds3 all;
   for (const Triangle& t : occluders)
     for (const Point3& v : t.v) all.add(v);
   impl_->centre = all.empty() ? Point3{} : all.center();
   const Vector3 shift = to_vector(impl_->centre);
   std::vector<Point3> centroids;
-  for (const Triangle& t : occluders) {
+  for (std::size_t k = 0; k < occluders.size(); ++k) {
+    const Triangle& t = occluders[k];
     const Triangle local{{t.v[0] - shift, t.v[1] - shift, t.v[2] - shift}};
     if (!(local.area() > 0)) continue;
     impl_->triangles.push_back(local);
+    impl_->outward_solid.push_back(k < outward_solid.size() ? outward_solid[k] : 0);
     centroids.push_back(local.centroid());
   }
   impl_->order.resize(impl_->triangles.size());
@@ -256,8 +261,23 @@ ExactVisibility::VisibleRegion ExactVisibility::visible_region(const Point3& p_w
   out.e2_ = cross(ns, out.e1_);
   auto to_plane = [&](const Point3& y) { return Point2d{dot(y - s0, out.e1_), dot(y - s0, out.e2_)}; };
   std::vector<Loop2d> shadows;
-  impl_->query(region, [&](const Triangle& t) {
-    const SmallPolygon part = clip_to_region(t, region);
+  impl_->query(region, [&](const Triangle& t, bool outward_solid) {
+    if (outward_solid && dot(t.area_vector(), p - t.v[0]) <= 0) return false;  // a solid's face seen from behind
+    // The corners decide for most triangles, as in shaft_is_clear: wholly outside one half-space (no
+    // shadow) or inside all of them (the whole triangle); only the rest are clipped.
+    bool inside = true;
+    for (const HalfSpace& r : region) {
+      const double d0 = r.signed_distance(t.v[0]), d1 = r.signed_distance(t.v[1]), d2 = r.signed_distance(t.v[2]);
+      if (d0 < 0 && d1 < 0 && d2 < 0) return false;
+      inside = inside && d0 >= 0 && d1 >= 0 && d2 >= 0;
+    }
+    SmallPolygon part;
+    if (inside) {
+      part.count = 3;
+      std::copy(t.v.begin(), t.v.end(), part.v.begin());
+    } else {
+      part = clip_to_region(t, region);
+    }
     if (part.count < 3) return false;
     Loop2d shadow(part.count);
     for (int k = 0; k < part.count; ++k) {
@@ -348,7 +368,7 @@ bool ExactVisibility::shaft_is_clear(std::span<const Point3> points_world) const
   // Most triangles that the tree hands over lie wholly outside one face of the hull or wholly inside
   // every face: their corners decide, as clip_to_region would (an empty part, or the whole triangle),
   // and only triangles that cross a face are clipped.
-  auto meets_region = [&](const Triangle& t) {
+  auto meets_region = [&](const Triangle& t, bool) {
     bool inside = true;
     for (const HalfSpace& h : region) {
       const double d0 = h.signed_distance(t.v[0]), d1 = h.signed_distance(t.v[1]), d2 = h.signed_distance(t.v[2]);

@@ -27,7 +27,12 @@ class ExactVisibility {
  public:
   // Occluders: the scene's triangles in metres (the input triangles, not the patches: fewer and larger
   // occluders make fewer, simpler projections). Indexed by a bounding-volume hierarchy.
-  explicit ExactVisibility(std::span<const Triangle> occluders);
+  // `outward_solid` (empty, or one flag per occluder): the occluder is a face of a closed solid, facing
+  // out (outward_solid_triangles, solver/solids.h). From a point outside the solid such a face seen
+  // from behind hides nothing that the solid's front faces do not, so it is not projected: a box seen
+  // from a point casts the shadows of its two to six front triangles, not of all twelve, which keeps
+  // it within the inclusion–exclusion path.
+  explicit ExactVisibility(std::span<const Triangle> occluders, std::span<const char> outward_solid = {});
   ~ExactVisibility();
   ExactVisibility(const ExactVisibility&) = delete;
   ExactVisibility& operator=(const ExactVisibility&) = delete;

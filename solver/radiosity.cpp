@@ -23,6 +23,7 @@
 #include "solver/linear_solve.h"
 #include "solver/occluder_planes.h"
 #include "solver/patch_refinement.h"
+#include "solver/solids.h"
 #include "solver/visibility.h"
 #include "solver/visible_fraction.h"
 
@@ -255,57 +256,6 @@ void check_patch_count(double patches, bool estimate, std::size_t solver_limit, 
 
 namespace {
 Solution solve_method(const Scene& scene, const SolveControl& control);
-
-// Which surfaces bound a solid, alone or with others (a box given as six surfaces, one per face):
-// the triangles of all surfaces are joined into components across edges whose ends coincide, and a
-// component bounds a solid when it is closed (its vector area Σ A n vanishes, as it does for any
-// closed surface, T-junctions or not) and encloses a volume (which a sheet's two faces back to back
-// do not); its faces may point out (a box) or in (a room). A surface bounds a solid when any of its
-// triangles is in such a component.
-std::vector<char> surfaces_bounding_solids(const std::vector<Surface>& surfaces) {
-  std::vector<Triangle> all;
-  std::vector<int> owner;  // surface of each triangle
-  std::vector<Point3> corners;
-  for (std::size_t s = 0; s < surfaces.size(); ++s)
-    for (std::size_t t = 0; t < surfaces[s].mesh.triangles.size(); ++t) {
-      all.push_back(surfaces[s].mesh.triangle(t)), owner.push_back(static_cast<int>(s));
-      for (const Point3& p : all.back().v) corners.push_back(p);
-    }
-  const std::vector<int> vertex = weld_identical_positions(corners);  // corner 3 t + k → its position
-  std::vector<int> parent(all.size());  // union–find over the triangles
-  std::iota(parent.begin(), parent.end(), 0);
-  auto root = [&](int x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  };
-  std::map<std::pair<int, int>, int> edge;  // an edge's ends → the first triangle on it
-  for (int t = 0; t < static_cast<int>(all.size()); ++t)
-    for (int k = 0; k < 3; ++k) {
-      const auto [it, added] = edge.try_emplace(std::minmax(vertex[3 * t + k], vertex[3 * t + (k + 1) % 3]), t);
-      if (!added) parent[root(t)] = root(it->second);
-    }
-  struct Sums {
-    Vector3 vector_area{};
-    double area = 0, volume = 0;
-  };
-  std::vector<Sums> sums(all.size());
-  const Point3 o = all.empty() ? Point3{} : all[0].v[0];
-  for (std::size_t t = 0; t < all.size(); ++t) {
-    Sums& c = sums[root(static_cast<int>(t))];
-    const Vector3 a = all[t].v[0] - o, b = all[t].v[1] - o, d = all[t].v[2] - o;
-    const Vector3 twice = cross(b - a, d - a);
-    c.vector_area = c.vector_area + twice * 0.5;
-    c.area += 0.5 * length(twice);
-    c.volume += dot(a, cross(b, d)) / 6;
-  }
-  std::vector<char> solid(surfaces.size(), 0);
-  for (std::size_t t = 0; t < all.size(); ++t) {
-    const Sums& c = sums[root(static_cast<int>(t))];
-    if (c.area > 0 && length(c.vector_area) <= 1e-6 * c.area && std::abs(c.volume) > 1e-6 * c.area * std::sqrt(c.area))
-      solid[owner[t]] = 1;
-  }
-  return solid;
-}
 
 // Pieces that lie on an opposite-facing coplanar face (imprint_contacts, on_opposite_face) are either
 // contact — a box's bottom on a floor, where the space in front of one of the two faces is inside the

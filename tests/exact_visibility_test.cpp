@@ -14,6 +14,7 @@
 #include "solver/cubature.h"
 #include "solver/form_factor.h"
 #include "solver/occluder_planes.h"
+#include "solver/solids.h"
 #include "solver/spectrum.h"
 #include "solver/visibility.h"
 #include "solver/visible_fraction.h"
@@ -402,6 +403,75 @@ TEST(VisibilityRounds, EarlyLinksAreClosedAsHiddenByFourBlockedRaysOnly) {
   EXPECT_EQ(run({1, 1}, fraction), 4u + 16u);
   EXPECT_DOUBLE_EQ(fraction[0], 0.0);
   EXPECT_DOUBLE_EQ(fraction[1], 1.0);
+}
+
+// ---- closed solids (solver/solids.h) and the faces ExactVisibility may skip ----
+
+std::vector<char> outward_flags(const std::vector<std::vector<Triangle>>& surfaces) {
+  test::SceneBuilder b;
+  const int m = b.material("grey", 0.5);
+  for (const auto& triangles : surfaces) b.surface("s", m, triangles);
+  return outward_solid_triangles(b.scene().surfaces);
+}
+bool all_of(const std::vector<char>& flags, char value) {
+  return std::all_of(flags.begin(), flags.end(), [&](char f) { return f == value; });
+}
+
+TEST(Solids, OnlyTheFacesOfClosedOutwardSolidsAreFlagged) {
+  const auto cube = test::box({0, 0, 0}, {1, 1, 1}, false);
+  EXPECT_TRUE(all_of(outward_flags({cube}), 1));
+  EXPECT_TRUE(all_of(outward_flags({test::icosphere({0, 0, 0}, 1, 2)}), 1));
+  // Faces pointing into the volume (a room): closed, but not a solid seen from outside.
+  EXPECT_TRUE(all_of(outward_flags({test::box({0, 0, 0}, {6, 4, 3}, true)}), 0));
+  // A box given face by face, one surface per face, is one solid.
+  std::vector<std::vector<Triangle>> faces;
+  for (std::size_t t = 0; t < cube.size(); t += 2) faces.push_back({cube[t], cube[t + 1]});
+  EXPECT_TRUE(all_of(outward_flags(faces), 1));
+  // Not closed: a face missing; not consistent: a face flipped (its edges run the same way as its
+  // neighbours'); a sheet's two faces back to back (closed, but enclosing no volume).
+  EXPECT_TRUE(all_of(outward_flags({std::vector<Triangle>(cube.begin() + 2, cube.end())}), 0));
+  auto flipped = cube;
+  for (int t = 0; t < 2; ++t) std::swap(flipped[t].v[1], flipped[t].v[2]);
+  EXPECT_TRUE(all_of(outward_flags({flipped}), 0));
+  const auto sheet = rect_at(0, 1, 0, 1, 0.5, false), back = rect_at(0, 1, 0, 1, 0.5, true);
+  EXPECT_TRUE(all_of(outward_flags({sheet, back}), 0));
+  // Several components: the cube's faces only.
+  const auto mixed = outward_flags({test::box({0, 0, 0}, {6, 4, 3}, true), test::box({2, 1, 1}, {3, 2, 2}, false), sheet});
+  EXPECT_TRUE(all_of(std::vector<char>(mixed.begin(), mixed.begin() + 12), 0));
+  EXPECT_TRUE(all_of(std::vector<char>(mixed.begin() + 12, mixed.begin() + 24), 1));
+  EXPECT_TRUE(all_of(std::vector<char>(mixed.begin() + 24, mixed.end()), 0));
+}
+
+TEST(ExactVisibility, FacesOfASolidSeenFromBehindHideNothingMore) {
+  // A floating box and a faceted sphere (closed, facing out) and a sheet (not a solid) between points
+  // on a floor and sources on a ceiling: skipping the solids' faces seen from behind (half of their
+  // triangles) gives the same visible factor, to round-off, as projecting every triangle; the box's
+  // twelve triangles no longer exceed the inclusion–exclusion limit of 8 shadows.
+  const auto cube = test::box({1, 1, 1}, {2, 2, 2}, false);
+  const auto sphere = test::icosphere({2.6, 1.4, 1.5}, 0.4, 1);
+  const auto sheet = rect_at(0.5, 1.2, 2.2, 2.9, 1.4, false);
+  std::vector<Triangle> occluders = cube;
+  occluders.insert(occluders.end(), sphere.begin(), sphere.end());
+  occluders.insert(occluders.end(), sheet.begin(), sheet.end());
+  const std::vector<char> flags = outward_flags({cube, sphere, sheet});
+  ASSERT_EQ(flags.size(), occluders.size());
+  const ExactVisibility all(occluders), skipping(occluders, flags);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(0, 1);
+  int hidden = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    const Point3 p{3.5 * u(rng), 3.5 * u(rng), 0};
+    const Vector3 n = normalize(Vector3{0.4 * (u(rng) - 0.5), 0.4 * (u(rng) - 0.5), 1});
+    const Point3 c{3.5 * u(rng), 3.5 * u(rng), 3};
+    const Triangle source{{c, c + Vector3{0.3 + u(rng), 0, 0.1 * u(rng)}, c + Vector3{0, 0.3 + u(rng), 0.1 * u(rng)}}};
+    const Triangle facing_down{{source.v[0], source.v[2], source.v[1]}};
+    const double unoccluded = point_triangle_factor(p, n, facing_down);
+    if (!(unoccluded > 0)) continue;
+    const double a = all.visible_factor(p, n, facing_down), b = skipping.visible_factor(p, n, facing_down);
+    EXPECT_NEAR(a, b, 1e-12 * unoccluded) << trial;
+    hidden += a < 0.99 * unoccluded;
+  }
+  EXPECT_GT(hidden, 50);  // many sources were partly hidden
 }
 
 TEST(OccluderPlanes, AConvexRoomHasNoneAndEveryPairIsClear) {

@@ -1,0 +1,97 @@
+// Closed surfaces (see solids.h).
+#include "solver/solids.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numeric>
+
+namespace lambert {
+namespace {
+
+// The components of the scene's triangles and, per component, what tells whether it is closed.
+struct Components {
+  std::vector<int> owner;      // surface of each triangle
+  std::vector<int> component;  // of each triangle: the index of its component's first triangle
+  struct Sums {
+    Vector3 vector_area{};
+    double area = 0, volume = 0;  // volume: signed, positive where the faces point out of it
+    bool consistent = true;       // every shared edge runs opposite ways in its two triangles
+  };
+  std::vector<Sums> sums;      // per component (indexed as `component`)
+  bool closed(int c) const {
+    const Sums& s = sums[c];
+    return s.area > 0 && length(s.vector_area) <= 1e-6 * s.area && std::abs(s.volume) > 1e-6 * s.area * std::sqrt(s.area);
+  }
+};
+
+Components components(const std::vector<Surface>& surfaces) {
+  Components out;
+  std::vector<Triangle> all;
+  std::vector<Point3> corners;
+  for (std::size_t s = 0; s < surfaces.size(); ++s)
+    for (std::size_t t = 0; t < surfaces[s].mesh.triangles.size(); ++t) {
+      all.push_back(surfaces[s].mesh.triangle(t)), out.owner.push_back(static_cast<int>(s));
+      for (const Point3& p : all.back().v) corners.push_back(p);
+    }
+  const std::vector<int> vertex = weld_identical_positions(corners);  // corner 3 t + k → its position
+  std::vector<int> parent(all.size());  // union–find over the triangles
+  std::iota(parent.begin(), parent.end(), 0);
+  auto root = [&](int x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  // An edge's ends (lower position first) → the first triangle on it, whether it runs from the
+  // lower end there, and how many triangles share it.
+  struct EdgeUse {
+    int triangle;
+    bool forward;
+    int count;
+  };
+  std::map<std::pair<int, int>, EdgeUse> edge;
+  std::vector<char> inconsistent(all.size(), 0);
+  for (int t = 0; t < static_cast<int>(all.size()); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const int a = vertex[3 * t + k], b = vertex[3 * t + (k + 1) % 3];
+      const auto [it, added] = edge.try_emplace(std::minmax(a, b), EdgeUse{t, a < b, 1});
+      if (added) continue;
+      parent[root(t)] = root(it->second.triangle);
+      if (++it->second.count > 2 || it->second.forward == (a < b)) inconsistent[t] = 1;
+    }
+  out.component.resize(all.size());
+  out.sums.resize(all.size());
+  const Point3 o = all.empty() ? Point3{} : all[0].v[0];
+  for (std::size_t t = 0; t < all.size(); ++t) {
+    const int c = out.component[t] = root(static_cast<int>(t));
+    Components::Sums& s = out.sums[c];
+    const Vector3 a = all[t].v[0] - o, b = all[t].v[1] - o, d = all[t].v[2] - o;
+    const Vector3 twice = cross(b - a, d - a);
+    s.vector_area = s.vector_area + twice * 0.5;
+    s.area += 0.5 * length(twice);
+    s.volume += dot(a, cross(b, d)) / 6;
+    s.consistent = s.consistent && !inconsistent[t];
+  }
+  return out;
+}
+
+}  // namespace
+
+std::vector<char> surfaces_bounding_solids(const std::vector<Surface>& surfaces) {
+  const Components c = components(surfaces);
+  std::vector<char> solid(surfaces.size(), 0);
+  for (std::size_t t = 0; t < c.component.size(); ++t)
+    if (c.closed(c.component[t])) solid[c.owner[t]] = 1;
+  return solid;
+}
+
+std::vector<char> outward_solid_triangles(const std::vector<Surface>& surfaces) {
+  const Components c = components(surfaces);
+  std::vector<char> outward(c.component.size(), 0);
+  for (std::size_t t = 0; t < c.component.size(); ++t) {
+    const int k = c.component[t];
+    outward[t] = c.closed(k) && c.sums[k].consistent && c.sums[k].volume > 0;
+  }
+  return outward;
+}
+
+}  // namespace lambert
