@@ -76,6 +76,30 @@ struct Triangle {
   }
 };
 
+// Distance from p to the nearest point of triangle t (its interior, an edge or a corner), by the
+// Voronoi regions of the corners and edges (Ericson, "Real-Time Collision Detection", 5.1.5).
+inline double distance_to_triangle(const Point3& p, const Triangle& t) {
+  const Point3 &a = t.v[0], &b = t.v[1], &c = t.v[2];
+  const Vector3 ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = dot(ab, ap), d2 = dot(ac, ap);
+  if (d1 <= 0 && d2 <= 0) return length(ap);
+  const Vector3 bp = p - b;
+  const double d3 = dot(ab, bp), d4 = dot(ac, bp);
+  if (d3 >= 0 && d4 <= d3) return length(bp);
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return length(ap - ab * (d1 / (d1 - d3)));
+  const Vector3 cp = p - c;
+  const double d5 = dot(ab, cp), d6 = dot(ac, cp);
+  if (d6 >= 0 && d5 <= d6) return length(cp);
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return length(ap - ac * (d2 / (d2 - d6)));
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0) return length(bp - (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6))));
+  const double denominator = va + vb + vc;
+  if (!(denominator > 0)) return std::min({length(ap), length(bp), length(cp)});  // degenerate
+  return length(ap - ab * (vb / denominator) - ac * (vc / denominator));
+}
+
 // Whether any vertex of b lies strictly in front of the plane of a (unit normal na), with a tolerance
 // relative to the triangles' size: b can receive from, or radiate to, a's front side only then.
 inline bool any_in_front(const Triangle& a, const Vector3& na, const Triangle& b) {

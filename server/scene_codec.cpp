@@ -1607,7 +1607,7 @@ void Decoder::decode_options(const json& doc) {
       if (auto v = boolean(*r, "/meshing/refine_direct")) scene_.meshing.refine_direct = *v;
   }
   const json* s = member(doc, "solver");
-  if (s && object(*s, "/solver", {"tolerance", "max_iterations", "method", "accuracy"})) {
+  if (s && object(*s, "/solver", {"tolerance", "max_iterations", "method", "accuracy", "exact_visibility"})) {
     if (const json* t = member(*s, "tolerance"))
       if (auto v = number_in(*t, "/solver/tolerance", 0, false, 0.1, true))
         scene_.solver.tolerance = *v;
@@ -1623,6 +1623,8 @@ void Decoder::decode_options(const json& doc) {
       }
     if (const json* t = member(*s, "accuracy"))
       if (auto v = number_in(*t, "/solver/accuracy", 0, false, 0.1, true)) scene_.solver.accuracy = *v;
+    if (const json* t = member(*s, "exact_visibility"))
+      if (auto v = boolean(*t, "/solver/exact_visibility")) scene_.solver.exact_visibility = *v;
   }
   if (const json* o = member(doc, "output"); o && object(*o, "/output", {"spectral", "per_source"})) {
     if (const json* s = member(*o, "spectral"))

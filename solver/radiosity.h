@@ -38,6 +38,9 @@ struct SolveStats {
   std::uint64_t exact_visibility_evaluations = 0;  // exact Boolean evaluations (probe point × input triangle)
   std::uint64_t links_clear = 0;       // links wholly visible by the occluder planes: no rays (occluder_planes.h)
   std::uint64_t link_rays = 0;         // rays traced for patch-pair links (dense method)
+  std::size_t leaf_links = 0;          // hierarchical: links formed at the leaves by the final gather
+  std::size_t leaf_links_traced = 0;   // of which needed the leaf's own rays
+  std::size_t leaf_links_exact = 0;    // of which were partly visible, with the exact visible part
   double link_ray_thread_s = 0;        // thread time spent on them, summed over threads: sample points,
                                        // kernel weights, Embree and the votes (the per-ray cost)
   int iterations = 0;                  // largest over the spectral systems

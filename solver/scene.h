@@ -104,6 +104,13 @@ struct SolverOptions {
   // Hierarchical only: the share of the scene's power a link may carry as error (BF refinement
   // threshold, times a fixed calibration), which also sets the rays per link and the probes' depth.
   double accuracy = 1e-3;
+  // Hierarchical only: the final gather at the leaves re-traces every link whose visibility is not
+  // proven, at each leaf, with the exact visible part where its rays disagree (hierarchical.cpp,
+  // LeafGather). Slower; closer row sums near occluders.
+  bool exact_visibility = false;
+  // Hierarchical only, not part of the scene format: the final gather at the leaves can be turned off
+  // to measure what it does (tests, benchmarks).
+  bool leaf_gather = true;
 };
 
 struct OutputOptions {

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -13,6 +14,7 @@
 #include <fstream>
 #include <map>
 #include <numbers>
+#include <random>
 #include <set>
 
 #include "tests/test_geometry.h"
@@ -40,6 +42,38 @@ double shoelace(const std::vector<Point3>& p) {
 
 bool contains(const std::string& text, const std::string& part) {
   return text.find(part) != std::string::npos;
+}
+
+// ---- distance_to_triangle (mesh/geometry.h) ---------------------------------------------------
+
+TEST(DistanceToTriangle, EachVoronoiRegionAgainstAFineSearch) {
+  // Second method: the smallest distance to a 400 × 400 grid of the triangle's points, refined
+  // around its best point; the two agree to the grid's resolution, and the function is never above
+  // the search (it is the minimum over the whole triangle). Points over the interior, beside each
+  // edge and beyond each corner are all met; and the regions' closed forms where they are simple.
+  const Triangle t{{Point3{0, 0, 0}, Point3{2, 0, 0.5}, Point3{0.3, 1.5, -0.2}}};
+  EXPECT_NEAR(distance_to_triangle(Point3{0, 0, 0}, t), 0, 1e-15);
+  EXPECT_NEAR(distance_to_triangle(Point3{-1, -1, 0}, t), std::sqrt(2.0), 1e-12);  // beyond corner 0
+  EXPECT_NEAR(distance_to_triangle(t.centroid() + t.normal() * 0.7, t), 0.7, 1e-12);  // over the interior
+  std::mt19937 random(3);
+  std::uniform_real_distribution<double> u(-2, 3);
+  for (int k = 0; k < 300; ++k) {
+    const Point3 p{u(random), u(random), u(random)};
+    double best = 1e300, ba = 0, bb = 0;
+    for (int i = 0; i <= 400; ++i)
+      for (int j = 0; i + j <= 400; ++j) {
+        const double d = distance(p, barycentric(t.v[0], t.v[1], t.v[2], 1 - (i + j) / 400.0, i / 400.0, j / 400.0));
+        if (d < best) best = d, ba = i / 400.0, bb = j / 400.0;
+      }
+    for (int i = -50; i <= 50; ++i)  // refine around the grid's best point
+      for (int j = -50; j <= 50; ++j) {
+        const double a = std::clamp(ba + i * 5e-5, 0.0, 1.0), b = std::clamp(bb + j * 5e-5, 0.0, 1.0 - a);
+        best = std::min(best, distance(p, barycentric(t.v[0], t.v[1], t.v[2], 1 - a - b, a, b)));
+      }
+    const double d = distance_to_triangle(p, t);
+    EXPECT_LE(d, best + 1e-12) << k;
+    EXPECT_NEAR(d, best, 1e-7) << k;
+  }
 }
 
 // ---- triangulate_polygon ------------------------------------------------------------------

@@ -121,7 +121,7 @@ TEST(SceneCodec, DefaultsAndOptions) {
          "spectrum": {"mode": "spectral", "wavelengths_nm": [450, 550, 650]},
          "probes": [{"position": [0, 1, 0], "normal": [0, 5, 0]}],
          "meshing": {"max_patch_area": 0.25, "adaptive": true, "refine_direct": false},
-         "solver": {"tolerance": 1e-3, "max_iterations": 1e3},
+         "solver": {"tolerance": 1e-3, "max_iterations": 1e3, "exact_visibility": true},
          "output": {"spectral": false})"));
   ASSERT_TRUE(s);
   EXPECT_EQ(s->surfaces[1].name, "surface1");
@@ -136,6 +136,7 @@ TEST(SceneCodec, DefaultsAndOptions) {
   EXPECT_FALSE(s->meshing.refine_direct);
   EXPECT_DOUBLE_EQ(s->solver.tolerance, 1e-3);
   EXPECT_EQ(s->solver.max_iterations, 1000);  // 1e3 is a whole number
+  EXPECT_TRUE(s->solver.exact_visibility);
   EXPECT_FALSE(s->output.spectral);
 }
 
@@ -331,6 +332,8 @@ TEST(SceneCodecErrors, WrongType) {
   EXPECT_TRUE(HasError(scene_with(R"("meshing": {"adaptive": "yes"})"), "/meshing/adaptive",
                        "expected a boolean"));
   EXPECT_TRUE(HasError(scene_with(R"("meshing": {"refine_direct": 1})"), "/meshing/refine_direct",
+                       "expected a boolean"));
+  EXPECT_TRUE(HasError(scene_with(R"("solver": {"exact_visibility": "yes"})"), "/solver/exact_visibility",
                        "expected a boolean"));
 }
 
