@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <tuple>
+#include <type_traits>
 #include <vector>
 
 #include "solver/cubature.h"
@@ -147,41 +148,34 @@ __attribute__((target_clones("avx2", "default"))) void point_triangle_factors(st
     // some lane has an edge seen under more than 14°, every lane's sum again with each edge's series
     // or wide term (a square root, two divisions and the angle's reduction). Computing both for
     // every lane in one pass made the batch slower than the calls one by one.
-    for (int k = 0; k < 3; ++k) {
-      const Point3& A = t.v[k];
-      const Point3& B = t.v[(k + 1) % 3];
-      for (int l = 0; l < kLanes; ++l) {
-        const double ax = A.x - x[l], ay = A.y - y[l], az = A.z - z[l];
-        const double bx = B.x - x[l], by = B.y - y[l], bz = B.z - z[l];
-        const double cx = by * az - bz * ay, cy = bz * ax - bx * az, cz = bx * ay - by * ax;  // c = b × a
-        const double c2 = cx * cx + cy * cy + cz * cz, d = ax * bx + ay * by + az * bz;
-        const double horizon = ax * n.x + ay * n.y + az * n.z;
-        const bool good = (d > 0) & (16 * c2 <= d * d);
-        const double dd = good ? d : 1.0;
-        const double term = series_edge_term(n.x * cx + n.y * cy + n.z * cz, c2, dd);
-        sum[l] += good ? term : 0.0;
-        series[l] = good ? series[l] : 0.0;
-        above[l] = horizon >= 0 ? above[l] : 0.0;
-      }
-    }
-    double all_series = 1;
-    for (int l = 0; l < kLanes; ++l) all_series = std::min(all_series, series[l]);
-    if (all_series == 0) {
-      for (int l = 0; l < kLanes; ++l) sum[l] = 0;
+    auto pass = [&](auto wide) {
       for (int k = 0; k < 3; ++k) {
         const Point3& A = t.v[k];
         const Point3& B = t.v[(k + 1) % 3];
         for (int l = 0; l < kLanes; ++l) {
           const double ax = A.x - x[l], ay = A.y - y[l], az = A.z - z[l];
           const double bx = B.x - x[l], by = B.y - y[l], bz = B.z - z[l];
-          const double cx = by * az - bz * ay, cy = bz * ax - bx * az, cz = bx * ay - by * ax;
+          const double cx = by * az - bz * ay, cy = bz * ax - bx * az, cz = bx * ay - by * ax;  // c = b × a
           const double c2 = cx * cx + cy * cy + cz * cz, d = ax * bx + ay * by + az * bz;
           const double nc = n.x * cx + n.y * cy + n.z * cz;
           const bool good = (d > 0) & (16 * c2 <= d * d);
-          const double dd = good ? d : 1.0;
-          sum[l] += good ? series_edge_term(nc, c2, dd) : wide_edge_term(nc, c2, d);
+          const double term = series_edge_term(nc, c2, good ? d : 1.0);
+          if constexpr (decltype(wide)::value) {
+            sum[l] += good ? term : wide_edge_term(nc, c2, d);
+          } else {
+            sum[l] += good ? term : 0.0;
+            series[l] = good ? series[l] : 0.0;
+            above[l] = ax * n.x + ay * n.y + az * n.z >= 0 ? above[l] : 0.0;
+          }
         }
       }
+    };
+    pass(std::false_type{});
+    double all_series = 1;
+    for (int l = 0; l < kLanes; ++l) all_series = std::min(all_series, series[l]);
+    if (all_series == 0) {
+      for (int l = 0; l < kLanes; ++l) sum[l] = 0;
+      pass(std::true_type{});
     }
     for (int l = 0; l < used; ++l) {
       const Point3& p = points[first + l];

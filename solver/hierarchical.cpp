@@ -1292,10 +1292,12 @@ class Refiner {
 constexpr double kLeafFarField = 4;        // the rule alone beyond this many leaf radii
 constexpr int kExpandedClusterRoots = 16;  // clusters of at most this many roots are expanded
 // The budget of leaf links: at most this many per link of the refinement or per patch, whichever is
-// more, and kMaxLeafLinks in all (28 bytes each).
+// more, and kMaxLeafLinks in all (28 bytes each, held twice while they are merged: 1.8 GB at most
+// beside the refinement's links, which the 10⁶-patch scenes of docs/BENCHMARKS.md leave room for
+// within 8 GiB).
 constexpr std::size_t kLeafLinksPerLink = 24;
 constexpr std::size_t kLeafLinksPerPatch = 1000;
-constexpr std::size_t kMaxLeafLinks = 64'000'000;
+constexpr std::size_t kMaxLeafLinks = 32'000'000;
 constexpr std::size_t kMaxSidedElements = 250'000;  // occluder-plane sides for at most this many (64 MB)
 constexpr std::size_t kMaxCheckedPairs = 1 << 16;     // root pairs a link into a cluster may check
 
