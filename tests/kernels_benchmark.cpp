@@ -37,8 +37,12 @@ std::vector<Point3> receiver_points() {
   return points;
 }
 
-void BM_PointTriangleFactor7(benchmark::State& state) {
-  const Triangle source{{Point3{0, 0, 1}, Point3{0, 0.1, 1}, Point3{0.1, 0, 1}}};
+// A source seen under small angles from the receiver (a 0.1 m triangle 1 m away: every edge takes the
+// series), and one seen under wide angles (a 1 m triangle 0.5 m away: the angle's reduction).
+const Triangle kSmallSource{{Point3{0, 0, 1}, Point3{0, 0.1, 1}, Point3{0.1, 0, 1}}};
+const Triangle kWideSource{{Point3{-0.5, -0.5, 0.5}, Point3{0, 0.6, 0.5}, Point3{0.5, -0.5, 0.5}}};
+
+void PointTriangleFactor7(benchmark::State& state, const Triangle& source) {
   const std::vector<Point3> points = receiver_points();
   for (auto _ : state) {
     double sum = 0;
@@ -46,10 +50,7 @@ void BM_PointTriangleFactor7(benchmark::State& state) {
     benchmark::DoNotOptimize(sum);
   }
 }
-BENCHMARK(BM_PointTriangleFactor7);
-
-void BM_PointTriangleFactorsBatch7(benchmark::State& state) {
-  const Triangle source{{Point3{0, 0, 1}, Point3{0, 0.1, 1}, Point3{0.1, 0, 1}}};
+void PointTriangleFactorsBatch7(benchmark::State& state, const Triangle& source) {
   const std::vector<Point3> points = receiver_points();
   std::vector<double> out(points.size());
   for (auto _ : state) {
@@ -57,30 +58,10 @@ void BM_PointTriangleFactorsBatch7(benchmark::State& state) {
     benchmark::DoNotOptimize(out.data());
   }
 }
-BENCHMARK(BM_PointTriangleFactorsBatch7);
-
-// The same against a source seen under wide angles (a 1 m triangle 0.5 m away): every edge takes
-// the angle's reduction instead of the small-angle series.
-const Triangle kWideSource{{Point3{-0.5, -0.5, 0.5}, Point3{0, 0.6, 0.5}, Point3{0.5, -0.5, 0.5}}};
-void BM_PointTriangleFactor7Wide(benchmark::State& state) {
-  const std::vector<Point3> points = receiver_points();
-  for (auto _ : state) {
-    double sum = 0;
-    for (const Point3& p : points) sum += point_triangle_factor(p, {0, 0, 1}, kWideSource);
-    benchmark::DoNotOptimize(sum);
-  }
-}
-BENCHMARK(BM_PointTriangleFactor7Wide);
-
-void BM_PointTriangleFactorsBatch7Wide(benchmark::State& state) {
-  const std::vector<Point3> points = receiver_points();
-  std::vector<double> out(points.size());
-  for (auto _ : state) {
-    point_triangle_factors(points, {0, 0, 1}, kWideSource, out);
-    benchmark::DoNotOptimize(out.data());
-  }
-}
-BENCHMARK(BM_PointTriangleFactorsBatch7Wide);
+BENCHMARK_CAPTURE(PointTriangleFactor7, small_angles, kSmallSource);
+BENCHMARK_CAPTURE(PointTriangleFactorsBatch7, small_angles, kSmallSource);
+BENCHMARK_CAPTURE(PointTriangleFactor7, wide_angles, kWideSource);
+BENCHMARK_CAPTURE(PointTriangleFactorsBatch7, wide_angles, kWideSource);
 
 void BM_AreaFormFactor(benchmark::State& state) {
   // state.range(0): distance between the patches in units of 1 mm (patch size 50 mm).
