@@ -20,6 +20,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <vector>
 
@@ -37,38 +38,52 @@ struct HalfSpace {
   double signed_distance(const Point3& x) const { return dot(normal, x - origin) - offset; }
 };
 
-// A small convex polygon in 3D: a triangle clipped by k planes has at most 3 + k vertices (k is 6
-// for a projection's region, at most 2·16 − 4 = 28 for a shaft's hull faces).
-struct SmallPolygon {
-  std::array<Point3, 32> v;
-  int count = 0;
-};
-
-SmallPolygon clip(const SmallPolygon& in, const HalfSpace& h) {
-  SmallPolygon out;
-  for (int i = 0; i < in.count; ++i) {
-    const Point3& a = in.v[i];
-    const Point3& b = in.v[(i + 1) % in.count];
+// Sutherland–Hodgman: the part of the convex polygon in[0, count) inside h, written to `out` (at most
+// count + 1 vertices); returns its vertex count.
+int clip(const Point3* in, int count, const HalfSpace& h, Point3* out) {
+  int m = 0;
+  for (int i = 0; i < count; ++i) {
+    const Point3& a = in[i];
+    const Point3& b = in[i + 1 < count ? i + 1 : 0];
     const double da = h.signed_distance(a), db = h.signed_distance(b);
-    if (da >= 0 && out.count < static_cast<int>(out.v.size())) out.v[out.count++] = a;
-    if ((da >= 0) != (db >= 0) && out.count < static_cast<int>(out.v.size())) {
-      const double t = da / (da - db);
-      out.v[out.count++] = a + (b - a) * t;
-    }
+    if (da >= 0) out[m++] = a;
+    if ((da >= 0) != (db >= 0)) out[m++] = a + (b - a) * (da / (da - db));
   }
-  return out;
+  return m;
 }
 
-// The part of a triangle inside every half-space of a region (fewer than 3 vertices: none).
-SmallPolygon clip_to_region(const Triangle& t, std::span<const HalfSpace> region) {
-  SmallPolygon part;
-  part.count = 3;
-  std::copy(t.v.begin(), t.v.end(), part.v.begin());
-  for (const HalfSpace& r : region) {
-    part = clip(part, r);
-    if (part.count < 3) break;
+// Room for a triangle clipped by up to 29 planes (a projection's region has 6, a cone 5, a shaft's
+// hull at most 2·16 − 4 = 28 faces), in two buffers that the clips alternate between: no allocation,
+// no copy per plane.
+struct ClipBuffers {
+  static constexpr std::size_t kPlanes = 29;
+  std::array<Point3, 3 + kPlanes> a, b;
+};
+
+// The part of a triangle inside every half-space of a region (fewer than 3 vertices: none), in one
+// of the buffers.
+std::span<const Point3> clip_to_region(const Triangle& t, std::span<const HalfSpace> region, ClipBuffers& buffers) {
+  Point3* in = buffers.a.data();
+  Point3* out = buffers.b.data();
+  std::copy(t.v.begin(), t.v.end(), in);
+  int count = 3;
+  for (std::size_t k = 0; k < region.size() && k < ClipBuffers::kPlanes && count >= 3; ++k) {
+    count = clip(in, count, region[k], out);
+    std::swap(in, out);
   }
-  return part;
+  return {in, static_cast<std::size_t>(count < 3 ? 0 : count)};
+}
+
+// What a triangle's corners tell of it against a convex region: wholly outside one half-space (−1),
+// inside all of them (1), or neither (0: it has to be clipped).
+int corner_verdict(const Triangle& t, std::span<const HalfSpace> region) {
+  bool inside = true;
+  for (const HalfSpace& r : region) {
+    const double d0 = r.signed_distance(t.v[0]), d1 = r.signed_distance(t.v[1]), d2 = r.signed_distance(t.v[2]);
+    if (d0 < 0 && d1 < 0 && d2 < 0) return -1;
+    inside = inside && d0 >= 0 && d1 >= 0 && d2 >= 0;
+  }
+  return inside ? 1 : 0;
 }
 
 double signed_area(const Loop2d& loop) {
@@ -140,7 +155,8 @@ struct ExactVisibility::Impl {
   };
   Point3 centre;                   // occluders are stored relative to it (geo-referenced scenes)
   std::vector<Triangle> triangles;
-  std::vector<char> outward_solid;  // per triangle (see the constructor)
+  std::vector<char> outward_solid;  // per triangle: a face of a closed solid facing out (see the constructor)
+  std::vector<int> convex_solid;    // per triangle: the convex solid it bounds, or −1
   std::vector<int> order;
   std::vector<Node> nodes;
 
@@ -169,8 +185,18 @@ struct ExactVisibility::Impl {
     return index;
   }
 
-  // Calls visit(triangle, outward_solid) for the triangles in leaves whose boxes meet the region,
-  // until it returns true; returns whether one did.
+  // Whether occluder k reaches into the interior of a convex region. Most triangles lie wholly outside
+  // one half-space or wholly inside every one: their corners decide, as clip_to_region would (an
+  // empty part, or the whole triangle), and only triangles that cross a face are clipped.
+  bool meets(int k, std::span<const HalfSpace> region) const {
+    thread_local ClipBuffers buffers;
+    const Triangle& t = triangles[k];
+    const int verdict = corner_verdict(t, region);
+    return verdict > 0 || (verdict == 0 && clip_to_region(t, region, buffers).size() >= 3);
+  }
+
+  // Calls visit(triangle index) for the triangles in leaves whose boxes meet the region, until it
+  // returns true; returns whether one did.
   template <class Visit>
   bool query(std::span<const HalfSpace> region, Visit&& visit) const {
     if (nodes.empty()) return false;
@@ -184,7 +210,7 @@ struct ExactVisibility::Impl {
         continue;
       if (node.right < 0) {
         for (int k = node.first; k < node.first + node.count; ++k)
-          if (visit(triangles[order[k]], outward_solid[order[k]] != 0)) return true;
+          if (visit(order[k])) return true;
       } else {
         stack.push_back(node.right);
         stack.push_back(index + 1);
@@ -194,7 +220,8 @@ struct ExactVisibility::Impl {
   }
 };
 
-ExactVisibility::ExactVisibility(std::span<const Triangle> occluders, std::span<const char> outward_solid)
+ExactVisibility::ExactVisibility(std::span<const Triangle> occluders, std::span<const int> solid,
+                                 std::span<const char> convex)
     : impl_(std::make_unique<Impl>()) {
   Bounds3 all;
   for (const Triangle& t : occluders)
@@ -207,7 +234,9 @@ ExactVisibility::ExactVisibility(std::span<const Triangle> occluders, std::span<
     const Triangle local{{t.v[0] - shift, t.v[1] - shift, t.v[2] - shift}};
     if (!(local.area() > 0)) continue;
     impl_->triangles.push_back(local);
-    impl_->outward_solid.push_back(k < outward_solid.size() ? outward_solid[k] : 0);
+    const int id = k < solid.size() ? solid[k] : -1;
+    impl_->outward_solid.push_back(id >= 0);
+    impl_->convex_solid.push_back(id >= 0 && static_cast<std::size_t>(id) < convex.size() && convex[id] ? id : -1);
     centroids.push_back(local.centroid());
   }
   impl_->order.resize(impl_->triangles.size());
@@ -217,83 +246,99 @@ ExactVisibility::ExactVisibility(std::span<const Triangle> occluders, std::span<
 
 ExactVisibility::~ExactVisibility() = default;
 
-ExactVisibility::VisibleRegion ExactVisibility::visible_region(const Point3& p_world, const Vector3& n,
-                                                              const Triangle& source_world) const {
-  VisibleRegion out;
-  const Vector3 shift = to_vector(impl_->centre);
-  const Point3 p = p_world - shift;
-  const Triangle S{{source_world.v[0] - shift, source_world.v[1] - shift, source_world.v[2] - shift}};
+namespace {
+
+// What a point p sees of a source S (both relative to the occluders' centre): S's plane (unit normal
+// ns, p's height h over it), the part of S in front of p's horizon, and the region that can occlude.
+struct Frame {
+  Point3 p;
+  Triangle S;
+  Vector3 ns;
+  double h = 0;
+  std::array<Point3, 4> front;  // the part of S in front of p's horizon: a triangle clipped by one plane
+  int front_count = 0;
+  std::array<HalfSpace, 6> region;
+};
+
+// False where p does not see S's front (p behind or in S's plane, or S wholly below p's horizon).
+bool make_frame(const Point3& p, const Vector3& n, const Triangle& S, Frame& f) {
   const Vector3 area_vector = S.area_vector();
-  if (!(length(area_vector) > 0)) return out;
-  const Vector3 ns = normalize(area_vector);
+  if (!(length(area_vector) > 0)) return false;
+  f.p = p, f.S = S;
+  f.ns = normalize(area_vector);
   const Point3& s0 = S.v[0];
-  const double h = dot(ns, p - s0);
-  if (!(h > 0)) return out;  // p behind or in the source's plane: the source's front does not face it
+  f.h = dot(f.ns, p - s0);
+  if (!(f.h > 0)) return false;
   const Point3 c = S.centroid();
   const double scale = distance(p, c) + S.bounding_radius();
-
-  // The part of S in front of p's horizon.
-  const HalfSpace horizon{n, p, 1e-12 * scale};
-  SmallPolygon front;
-  front.count = 3;
-  std::copy(S.v.begin(), S.v.end(), front.v.begin());
-  front = clip(front, HalfSpace{n, p, 0});
-  if (front.count < 3) return out;
-
-  // Region that can occlude: the cone from p over S enlarged by 5 %, above S's plane (by a margin
-  // relative to h: occluders in S's own plane, i.e. S's surface and its coplanar neighbours, do not
-  // occlude), in front of p's horizon, below p's height.
-  std::array<HalfSpace, 6> region;
+  f.front_count = clip(S.v.data(), 3, HalfSpace{n, p, 0}, f.front.data());
+  if (f.front_count < 3) return false;
+  // The cone from p over S enlarged by 5 %, above S's plane (by a margin relative to h: occluders in
+  // S's own plane, i.e. S's surface and its coplanar neighbours, do not occlude), in front of p's
+  // horizon, below p's height.
   for (int e = 0; e < 3; ++e) {
     const Point3 a = c + (S.v[e] - c) * 1.05, b = c + (S.v[(e + 1) % 3] - c) * 1.05;
     Vector3 m = cross(a - p, b - p);
     if (dot(m, c - p) < 0) m = -m;
-    region[e] = HalfSpace{m, p, 0};
+    f.region[e] = HalfSpace{m, p, 0};
   }
-  region[3] = HalfSpace{ns, s0, 1e-9 * h};
-  region[4] = horizon;
-  region[5] = HalfSpace{-ns, s0, -h * (1 - 1e-12)};
+  f.region[3] = HalfSpace{f.ns, s0, 1e-9 * f.h};
+  f.region[4] = HalfSpace{n, p, 1e-12 * scale};
+  f.region[5] = HalfSpace{-f.ns, s0, -f.h * (1 - 1e-12)};
+  return true;
+}
 
+Triangle shifted(const Triangle& t, const Vector3& shift) { return {{t.v[0] - shift, t.v[1] - shift, t.v[2] - shift}}; }
+
+}  // namespace
+
+ExactVisibility::VisibleRegion ExactVisibility::visible_region(const Point3& p_world, const Vector3& n,
+                                                              const Triangle& source_world) const {
+  return visible_region(p_world, n, source_world, true);
+}
+
+ExactVisibility::VisibleRegion ExactVisibility::visible_region(const Point3& p_world, const Vector3& n,
+                                                              const Triangle& source_world, bool count) const {
+  VisibleRegion out;
+  const Vector3 shift = to_vector(impl_->centre);
+  Frame f;
+  if (!make_frame(p_world - shift, n, shifted(source_world, shift), f)) return out;
+  const Point3& p = f.p;
+  const Point3& s0 = f.S.v[0];
   out.p_ = p_world;
   out.n_ = n;
   out.origin_ = source_world.v[0];
-  out.e1_ = normalize(S.v[1] - s0);
-  out.e2_ = cross(ns, out.e1_);
+  out.e1_ = normalize(f.S.v[1] - s0);
+  out.e2_ = cross(f.ns, out.e1_);
   auto to_plane = [&](const Point3& y) { return Point2d{dot(y - s0, out.e1_), dot(y - s0, out.e2_)}; };
   std::vector<Loop2d> shadows;
-  impl_->query(region, [&](const Triangle& t, bool outward_solid) {
-    if (outward_solid && dot(t.area_vector(), p - t.v[0]) <= 0) return false;  // a solid's face seen from behind
-    // The corners decide for most triangles, as in shaft_is_clear: wholly outside one half-space (no
-    // shadow) or inside all of them (the whole triangle); only the rest are clipped.
-    bool inside = true;
-    for (const HalfSpace& r : region) {
-      const double d0 = r.signed_distance(t.v[0]), d1 = r.signed_distance(t.v[1]), d2 = r.signed_distance(t.v[2]);
-      if (d0 < 0 && d1 < 0 && d2 < 0) return false;
-      inside = inside && d0 >= 0 && d1 >= 0 && d2 >= 0;
-    }
-    SmallPolygon part;
-    if (inside) {
-      part.count = 3;
-      std::copy(t.v.begin(), t.v.end(), part.v.begin());
-    } else {
-      part = clip_to_region(t, region);
-    }
-    if (part.count < 3) return false;
-    Loop2d shadow(part.count);
-    for (int k = 0; k < part.count; ++k) {
-      const Point3& q = part.v[k];
-      shadow[k] = to_plane(p + (q - p) * (h / (h - dot(ns, q - s0))));
+  thread_local ClipBuffers buffers;
+  impl_->query(f.region, [&](int k) {
+    const Triangle& t = impl_->triangles[k];
+    if (impl_->outward_solid[k] && dot(t.area_vector(), p - t.v[0]) <= 0) return false;  // a solid's face seen from behind
+    // The corners decide for most triangles, as in shaft_is_clear: no shadow, or the whole triangle;
+    // only the rest are clipped.
+    const int verdict = corner_verdict(t, f.region);
+    if (verdict < 0) return false;
+    const std::span<const Point3> part =
+        verdict > 0 ? std::span<const Point3>(t.v.data(), 3) : clip_to_region(t, f.region, buffers);
+    if (part.size() < 3) return false;
+    Loop2d shadow(part.size());
+    for (std::size_t i = 0; i < part.size(); ++i) {
+      const Point3& q = part[i];
+      shadow[i] = to_plane(p + (q - p) * (f.h / (f.h - dot(f.ns, q - s0))));
     }
     shadows.push_back(std::move(shadow));
     return false;
   });
 
-  Loop2d source(front.count);
-  for (int k = 0; k < front.count; ++k) source[k] = to_plane(front.v[k]);
+  Loop2d source(f.front_count);
+  for (int i = 0; i < f.front_count; ++i) source[i] = to_plane(f.front[i]);
   if (shadows.empty()) {
     out.loops_.push_back(std::move(source));
     return out;
   }
+  if (count) occluded_.fetch_add(1, std::memory_order_relaxed);
   booleans_.fetch_add(1, std::memory_order_relaxed);
   // A few shadows (the usual case: a box seen from a point casts two to six): inclusion–exclusion over
   // convex intersections in doubles, with no Boolean operation; many: CGAL's exact difference, whose
@@ -327,22 +372,86 @@ double ExactVisibility::VisibleRegion::factor_of(const Triangle& part) const {
   return std::max(0.0, factor);
 }
 
-double ExactVisibility::visible_factor(const Point3& p, const Vector3& n, const Triangle& source) const {
-  return visible_region(p, n, source).factor_of(source);
+double ExactVisibility::hidden_factor(const Point3& p, const Vector3& n, const Triangle& source) const {
+  return hidden_among(p, n, source, nullptr);
 }
 
-bool ExactVisibility::shaft_is_clear(std::span<const Point3> points_world) const {
+double ExactVisibility::hidden_factor(const Point3& p, const Vector3& n, const Triangle& source,
+                                      std::span<const int> candidates) const {
+  return hidden_among(p, n, source, &candidates);
+}
+
+double ExactVisibility::hidden_among(const Point3& p_world, const Vector3& n, const Triangle& source_world,
+                                     const std::span<const int>* candidates) const {
   const Vector3 shift = to_vector(impl_->centre);
+  Frame f;
+  if (!make_frame(p_world - shift, n, shifted(source_world, shift), f)) return 0;
+  // The cone from p over the front part of S, exactly (not enlarged), and S's plane with the region's
+  // margin: the part of an occluder inside it hides the directions of S it is seen in. A part lies
+  // in front of p's horizon and below p's height by the cone's construction.
+  std::array<HalfSpace, 5> cone;
+  const int edges = f.front_count;
+  Point3 inside = f.front[0];
+  for (int i = 1; i < edges; ++i) inside = inside + (f.front[i] - f.front[0]) / edges;
+  for (int e = 0; e < edges; ++e) {
+    Vector3 m = cross(f.front[e] - f.p, f.front[(e + 1) % edges] - f.p);
+    if (dot(m, inside - f.p) < 0) m = -m;
+    cone[e] = HalfSpace{m, f.p, 0};
+  }
+  cone[edges] = f.region[3];
+  const std::span<const HalfSpace> cone_span(cone.data(), edges + 1);
+  constexpr int kNone = std::numeric_limits<int>::min();
+  int group = kNone;  // the convex solid of the parts so far, or −2 − k for occluder k alone
+  bool several = false;
+  double hidden = 0;
+  thread_local ClipBuffers buffers;
+  auto visit = [&](int k) {
+    const Triangle& t = impl_->triangles[k];
+    if (impl_->outward_solid[k] && dot(t.area_vector(), f.p - t.v[0]) <= 0) return false;
+    if (corner_verdict(t, f.region) < 0) return false;
+    const std::span<const Point3> part = clip_to_region(t, cone_span, buffers);
+    if (part.size() < 3) return false;
+    const double factor = std::abs(point_boundary_factor(f.p, n, part));
+    if (!(factor > 0)) return false;
+    const int g = impl_->convex_solid[k] >= 0 ? impl_->convex_solid[k] : -2 - k;
+    if (group != kNone && g != group) return several = true;
+    group = g;
+    hidden += factor;
+    return false;
+  };
+  if (candidates == nullptr) {
+    impl_->query(f.region, visit);
+  } else {
+    for (const int k : *candidates)
+      if (visit(k)) break;
+  }
+  if (group == kNone) return 0;
+  occluded_.fetch_add(1, std::memory_order_relaxed);
+  if (!several) return hidden;
+  return std::max(0.0, point_triangle_factor(p_world, n, source_world) -
+                           visible_region(p_world, n, source_world, false).factor_of(source_world));
+}
+
+double ExactVisibility::visible_factor(const Point3& p, const Vector3& n, const Triangle& source) const {
+  const double hidden = hidden_factor(p, n, source);
+  const double whole = point_triangle_factor(p, n, source);
+  return hidden > 0 ? std::max(0.0, whole - hidden) : whole;
+}
+
+namespace {
+
+// The convex hull of up to 16 points shrunk by 1e-9 of its size, as half-spaces (its faces: planes
+// through three points with every point on one side, by brute force), relative to `shift`. Empty
+// where the points span no volume (then nothing can be inside), or no extent at all.
+void shaft_region(std::span<const Point3> points_world, const Vector3& shift, std::vector<HalfSpace>& region) {
+  region.clear();
   std::array<Point3, 16> p;
   const int n = static_cast<int>(std::min<std::size_t>(points_world.size(), p.size()));
   Bounds3 box;
   for (int i = 0; i < n; ++i) box.add(p[i] = points_world[i] - shift);
   const double size = length(box.diagonal());
-  if (!(size > 0)) return true;
+  if (!(size > 0)) return;
   const double margin = 1e-9 * size;
-  // Faces of the hull: planes through three points with every point on one side (brute force; a
-  // shaft has at most 16 points). Normals point inwards; the region is the hull shrunk by `margin`.
-  std::vector<HalfSpace> region;
   for (int i = 0; i < n; ++i)
     for (int j = i + 1; j < n; ++j)
       for (int k = j + 1; k < n; ++k) {
@@ -364,20 +473,26 @@ bool ExactVisibility::shaft_is_clear(std::span<const Point3> points_world) const
         });
         if (!known) region.push_back(face);
       }
+}
+
+}  // namespace
+
+bool ExactVisibility::shaft_is_clear(std::span<const Point3> points) const {
+  thread_local std::vector<HalfSpace> region;
+  shaft_region(points, to_vector(impl_->centre), region);
   if (region.empty()) return true;  // flat: nothing can be inside
-  // Most triangles that the tree hands over lie wholly outside one face of the hull or wholly inside
-  // every face: their corners decide, as clip_to_region would (an empty part, or the whole triangle),
-  // and only triangles that cross a face are clipped.
-  auto meets_region = [&](const Triangle& t, bool) {
-    bool inside = true;
-    for (const HalfSpace& h : region) {
-      const double d0 = h.signed_distance(t.v[0]), d1 = h.signed_distance(t.v[1]), d2 = h.signed_distance(t.v[2]);
-      if (d0 < 0 && d1 < 0 && d2 < 0) return false;
-      inside = inside && d0 >= 0 && d1 >= 0 && d2 >= 0;
-    }
-    return inside || clip_to_region(t, region).count >= 3;
-  };
-  return !impl_->query(region, meets_region);
+  return !impl_->query(region, [&](int k) { return impl_->meets(k, region); });
+}
+
+void ExactVisibility::shaft_occluders(std::span<const Point3> points, std::vector<int>& out) const {
+  out.clear();
+  thread_local std::vector<HalfSpace> region;
+  shaft_region(points, to_vector(impl_->centre), region);
+  if (region.empty()) return;
+  impl_->query(region, [&](int k) {
+    if (impl_->meets(k, region)) out.push_back(k);
+    return false;
+  });
 }
 
 }  // namespace lambert

@@ -27,12 +27,15 @@ class ExactVisibility {
  public:
   // Occluders: the scene's triangles in metres (the input triangles, not the patches: fewer and larger
   // occluders make fewer, simpler projections). Indexed by a bounding-volume hierarchy.
-  // `outward_solid` (empty, or one flag per occluder): the occluder is a face of a closed solid, facing
-  // out (outward_solid_triangles, solver/solids.h). From a point outside the solid such a face seen
-  // from behind hides nothing that the solid's front faces do not, so it is not projected: a box seen
-  // from a point casts the shadows of its two to six front triangles, not of all twelve, which keeps
-  // it within the inclusion–exclusion path.
-  explicit ExactVisibility(std::span<const Triangle> occluders, std::span<const char> outward_solid = {});
+  // `solid` (empty, or one per occluder): the index of the closed solid whose faces face out that the
+  // occluder bounds, or −1 (OutwardSolids, solver/solids.h); `convex` (per solid): whether that solid
+  // is convex. From a point outside the solid a face seen from behind hides nothing that the solid's
+  // front faces do not, so it is not projected: a box seen from a point casts the shadows of its two
+  // to six front triangles, not of all twelve. The front faces of a convex solid are seen in
+  // directions that do not overlap, so the factor they hide is the sum of theirs, with no Boolean
+  // operation (visible_factor).
+  explicit ExactVisibility(std::span<const Triangle> occluders, std::span<const int> solid = {},
+                           std::span<const char> convex = {});
   ~ExactVisibility();
   ExactVisibility(const ExactVisibility&) = delete;
   ExactVisibility& operator=(const ExactVisibility&) = delete;
@@ -40,7 +43,17 @@ class ExactVisibility {
   // Point-to-polygon factor F(dA_p -> visible part of `source`), for a receiver at p with unit normal
   // n; equal to point_triangle_factor(p, n, source) when nothing occludes. Occluders lying in the
   // source's plane or in p's horizon plane (the surfaces the source and p sit on) do not occlude.
+  // Where what occludes is one triangle, or front faces of one convex solid, their parts in the cone
+  // from p over the source are disjoint in direction and the hidden factor is their factors' sum
+  // (no projection, no Boolean); otherwise visible_region's.
   double visible_factor(const Point3& p, const Vector3& n, const Triangle& source) const;
+  // The factor of the part of `source` that the occluders hide from p: point_triangle_factor minus
+  // visible_factor (a wholly hidden source's may exceed the former by round-off), 0 where nothing
+  // occludes; the unoccluded factor is not evaluated unless shadows must be united.
+  double hidden_factor(const Point3& p, const Vector3& n, const Triangle& source) const;
+  // The same, looking only at `candidates` (occluder indices, from shaft_occluders of a hull that
+  // holds p and the source): no tree to walk for each of the points of one receiver.
+  double hidden_factor(const Point3& p, const Vector3& n, const Triangle& source, std::span<const int> candidates) const;
 
   // The part of `source` that p sees, kept as loops in the source's plane, so that the visible factor
   // of any convex part of the source (a patch cut from it) follows by clipping the loops to the part:
@@ -65,8 +78,13 @@ class ExactVisibility {
   // surfaces, a wall meeting them at an edge) do not count; a margin of 1e-9 of the hull's size is
   // allowed for rounding. Conservative: an occluder in the hull that blocks no segment also counts.
   bool shaft_is_clear(std::span<const Point3> points) const;
+  // The occluders that shaft_is_clear would find in the hull (their indices, in `out`): every one that
+  // can hide any part of one element from any point of the other.
+  void shaft_occluders(std::span<const Point3> points, std::vector<int>& out) const;
 
-  // Number of visible_factor evaluations that subtracted shadows (some occluder projected).
+  // Number of visible_factor evaluations that found something occluding, and of those that needed
+  // the shadows' union (visible_region: several occluders whose directions may overlap).
+  std::uint64_t occluded_evaluations() const { return occluded_.load(std::memory_order_relaxed); }
   std::uint64_t boolean_evaluations() const { return booleans_.load(std::memory_order_relaxed); }
 
   // Up to this many shadows, the visible part is formed by inclusion–exclusion over convex
@@ -75,9 +93,11 @@ class ExactVisibility {
   void set_inclusion_exclusion_limit(int shadows) { inclusion_exclusion_limit_ = shadows; }
 
  private:
+  VisibleRegion visible_region(const Point3& p, const Vector3& n, const Triangle& source, bool count) const;
+  double hidden_among(const Point3& p, const Vector3& n, const Triangle& source, const std::span<const int>* candidates) const;
   struct Impl;
   std::unique_ptr<Impl> impl_;
-  mutable std::atomic<std::uint64_t> booleans_{0};
+  mutable std::atomic<std::uint64_t> occluded_{0}, booleans_{0};
   int inclusion_exclusion_limit_ = 8;
 };
 

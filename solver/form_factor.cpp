@@ -69,17 +69,26 @@ inline double wide_edge_term(double nc, double c2, double d) {
   return s > 0 ? edge_angle(s, d) * nc / s : 0.0;  // s = 0: parallel (γ = 0), or p on the edge's line
 }
 
-double contour_sum(const Vector3& n, const Vector3* R, int count) {
+// The sum over the closed boundary R(0), ..., R(count − 1), each vertex relative to the receiving point.
+template <class At>
+double contour_sum_of(const Vector3& n, int count, At&& R) {
+  if (count <= 0) return 0;
   double sum = 0;
+  const Vector3 first = R(0);
+  Vector3 a = first;
   for (int i = 0; i < count; ++i) {
-    const Vector3& a = R[i];
-    const Vector3& b = R[(i + 1) % count];
+    const Vector3 b = i + 1 < count ? R(i + 1) : first;
     const Vector3 c = cross(b, a);
     const double c2 = length_squared(c), d = dot(a, b);
     if (d > 0 && 16 * c2 <= d * d) sum += series_edge_term(dot(n, c), c2, d);
     else sum += wide_edge_term(dot(n, c), c2, d);
+    a = b;
   }
   return sum;
+}
+
+double contour_sum(const Vector3& n, const Vector3* R, int count) {
+  return contour_sum_of(n, count, [R](int i) { return R[i]; });
 }
 
 }  // namespace
@@ -187,9 +196,7 @@ __attribute__((target_clones("avx2", "default"))) void point_triangle_factors(st
 }
 
 double point_boundary_factor(const Point3& p, const Vector3& n, std::span<const Point3> boundary) {
-  std::vector<Vector3> R(boundary.size());
-  for (std::size_t i = 0; i < boundary.size(); ++i) R[i] = boundary[i] - p;
-  return contour_sum(n, R.data(), static_cast<int>(R.size())) / (2 * kPi);
+  return contour_sum_of(n, static_cast<int>(boundary.size()), [&](int i) { return boundary[i] - p; }) / (2 * kPi);
 }
 
 double triangle_solid_angle(const Point3& p, const Triangle& t) {

@@ -1280,17 +1280,19 @@ class Refiner {
 // refinement itself trusts), or the occluder planes separate nothing between the pair
 // (occluder_planes.h). Links found partly hidden stay as they are. With `retrace` (the scene's
 // solver.exact_visibility), every link is expanded, those found hidden too (Hierarchy::hidden_links),
-// and each leaf link whose visibility is not proven takes the leaf's own rays (16, 64 where they
-// disagree); where they disagree, the visible part is computed exactly at the rule's nodes
-// (ExactVisibility::visible_factor: the occluders projected onto the source's plane and subtracted).
-// The raw closure error of the room with a floating cube (18 176 patches): 2.1 % before the gather,
-// 1.6 % after it by default (the partly hidden links stay), 0.07 % with retrace (what remains is leaf
-// rays that agreed by chance); retrace costs rays and exact evaluations at every leaf (10 × the time).
+// and each leaf link whose visibility is not proven is evaluated exactly, with no ray: the occluders
+// in the pair's shaft (ExactVisibility::shaft_occluders; none: wholly visible), and at each node of
+// the leaf's rule the factor they hide (ExactVisibility::hidden_factor). The raw closure error of the
+// room with a floating cube (18 176 patches): 2.1 % before the gather, 1.6 % after it by default (the
+// partly hidden links stay), 2e-6 with retrace, as in the room without the cube; with the leaf's own
+// 16 rays in place of the exact evaluation it was 7e-4 (rays that agreed by chance), and 1.7e-4 with
+// the leaf-wide rule in place of leaf_rule's pieces. Retrace costs about 3 × the time there.
 //
 // Memory and time grow with the leaf links, about 10 per expanded link in the rooms of
 // docs/BENCHMARKS.md; a scene whose leaf links would exceed the budget keeps its links.
 constexpr double kLeafFarField = 4;        // the rule alone beyond this many leaf radii
 constexpr int kExpandedClusterRoots = 16;  // clusters of at most this many roots are expanded
+constexpr int kMaxCuttingPlanes = 3;       // planes that divide a leaf's rule (LeafGather::leaf_rule)
 // The budget of leaf links: at most this many per link of the refinement or per patch, whichever is
 // more, and kMaxLeafLinks in all (28 bytes each, held twice while they are merged: 1.8 GB at most
 // beside the refinement's links, which the 10⁶-patch scenes of docs/BENCHMARKS.md leave room for
@@ -1309,9 +1311,9 @@ struct LeafGatherStats {
 
 class LeafGather {
  public:
-  LeafGather(Hierarchy& h, const Visibility& vis, const ExactVisibility& exact, std::span<const Triangle> occluders,
-             bool retrace, const AreaFactorOptions& near_field)
-      : h_(h), vis_(vis), exact_(exact), planes_(occluders), retrace_(retrace), near_field_(near_field) {
+  LeafGather(Hierarchy& h, const ExactVisibility& exact, std::span<const Triangle> occluders, bool retrace,
+             const AreaFactorOptions& near_field)
+      : h_(h), exact_(exact), planes_(occluders), retrace_(retrace), near_field_(near_field) {
     const std::size_t E = h.elements.size();
     leaves_below_.assign(E, 0);
     for (std::size_t e = E; e-- > 0;) {  // children come after their parent
@@ -1461,9 +1463,12 @@ class LeafGather {
   }
 
   // Whether link l at `receiver` is replaced by leaf links: it expands, unless it is a leaf's own
-  // element link, which is a leaf link already (the refiner gave it the exact mean over the leaf).
+  // element link, which is a leaf link already (the refiner gave it the exact mean over the leaf) —
+  // with retrace, one whose visibility is not proven is formed again, its visibility evaluated.
   bool expanded(const Link& l, int receiver) const {
-    return sources_of(l, receiver) > 0 && !(h_.elements[receiver].leaf >= 0 && !l.from_cluster);
+    if (sources_of(l, receiver) == 0) return false;
+    if (h_.elements[receiver].leaf < 0 || l.from_cluster) return true;
+    return retrace_ && l.bin[2] != kShaftClear && !clear(receiver, l.source);
   }
 
   // The leaf links of root block r, in element order, each leaf's sorted by source.
@@ -1503,16 +1508,67 @@ class LeafGather {
     }
   }
 
+  // The rule a leaf's links are integrated with (weights summing to 1): the degree-5 rule on the
+  // leaf; with retrace, on the pieces into which the planes of the sources that cut the leaf divide
+  // it. The exact visible factors at the nodes of one rule sum to 1 over a closed scene, so a row
+  // closes as well as its links' exact means (exchange_area: near and cut sources) agree with the
+  // rule; across a cutting plane the kernel has a kink that a leaf-wide rule misses (1.7e-4 of the
+  // row at the cube room's leaves cut by the cube's faces' planes), and on the pieces there is none.
+  void leaf_rule(const Element& L, const std::vector<Entry>& entries, std::vector<Point3>& nodes,
+                 std::vector<double>& weights) const {
+    thread_local std::vector<Triangle> pieces, next;
+    pieces.assign(1, L.tri);
+    if (retrace_) {
+      std::array<std::pair<Vector3, double>, kMaxCuttingPlanes> planes;  // unit normal, offset
+      int count = 0;
+      const double tolerance = 1e-9 * (1 + length(to_vector(L.centre)));
+      for (const Entry& entry : entries) {
+        const Element& S = h_.elements[entry.source];
+        if (count == kMaxCuttingPlanes || !front_part(L.tri, S.tri.v[0], S.tri.area_vector()).cut) continue;
+        const double offset = dot(S.normal, to_vector(S.tri.v[0]));
+        const bool known = std::any_of(planes.begin(), planes.begin() + count, [&](const auto& plane) {
+          const double c = dot(plane.first, S.normal);
+          return (c > 1 - 1e-12 && std::abs(plane.second - offset) <= tolerance) ||
+                 (c < -1 + 1e-12 && std::abs(plane.second + offset) <= tolerance);
+        });
+        if (!known) planes[count++] = {S.normal, offset};
+      }
+      for (int k = 0; k < count; ++k) {
+        const Point3 o = Point3{} + planes[k].first * planes[k].second;
+        next.clear();
+        for (const Triangle& t : pieces) {
+          const FrontPart front = front_part(t, o, planes[k].first), back = front_part(t, o, -planes[k].first);
+          if (!front.cut) {
+            next.push_back(t);
+            continue;
+          }
+          for (int i = 0; i < front.count; ++i) next.push_back(front.pieces[i]);
+          for (int i = 0; i < back.count; ++i) next.push_back(back.pieces[i]);
+        }
+        pieces.swap(next);
+      }
+    }
+    const TriangleRule rule = triangle_rule_degree5();
+    nodes.clear(), weights.clear();
+    for (const Triangle& t : pieces) {
+      const double share = pieces.size() == 1 ? 1.0 : t.area() / L.area;
+      for (int q = 0; q < rule.size; ++q) {
+        const auto& w = rule.nodes[q];
+        nodes.push_back(barycentric(t.v[0], t.v[1], t.v[2], w[0], w[1], w[2]));
+        weights.push_back(rule.weights[q] * share);
+      }
+    }
+  }
+
   // The leaf links of leaf element e from `entries`, appended to `row`.
   void gather_leaf(int e, const std::vector<Entry>& entries, std::vector<Link>& row, LeafGatherStats& stats) const {
     const Element& L = h_.elements[e];
-    const TriangleRule rule = triangle_rule_degree5();
-    std::array<Point3, kMaxRuleSize> nodes;
-    for (int q = 0; q < rule.size; ++q) {
-      const auto& w = rule.nodes[q];
-      nodes[q] = barycentric(L.tri.v[0], L.tri.v[1], L.tri.v[2], w[0], w[1], w[2]);
-    }
-    const std::span<const Point3> node_span(nodes.data(), rule.size);
+    thread_local std::vector<Point3> nodes;
+    thread_local std::vector<double> weights, f, hidden;
+    leaf_rule(L, entries, nodes, weights);
+    const std::size_t size = nodes.size();
+    const std::span<const Point3> node_span(nodes);
+    f.resize(size), hidden.resize(size);
     const std::size_t begin = row.size();
     std::vector<int> pending;  // indices into row of links whose visibility takes the leaf's rays
     for (const Entry& entry : entries) {
@@ -1528,9 +1584,8 @@ class LeafGather {
       if (near || !h_.has_children(entry.source)) {  // leaf pairs as the refiner's: A F the same both ways
         F = exchange_area(L.tri, S.tri, near_field_) / L.area;
       } else {
-        std::array<double, kMaxRuleSize> f;
-        point_triangle_factors(node_span, L.normal, S.tri, std::span<double>(f.data(), rule.size));
-        for (int q = 0; q < rule.size; ++q) F += rule.weights[q] * f[q];
+        point_triangle_factors(node_span, L.normal, S.tri, f);
+        for (std::size_t q = 0; q < size; ++q) F += weights[q] * f[q];
       }
       if (!(F > 0)) continue;
       Link link;
@@ -1552,31 +1607,34 @@ class LeafGather {
       stats.leaf_links += row.size() - begin;
       return;
     }
+    // The visible part at the rule's nodes, exactly (no rays: rays that agree by chance were what kept
+    // the rows near an occluder from closing): F(x_q -> S) less the factor the occluders hide at
+    // each node, as a fraction of the link's unoccluded rule.
+    // The occluders in the pair's shaft are the only ones any node can see in front of the source:
+    // found once, and none means the pair sees each other wholly.
     stats.traced += pending.size();
-    thread_local std::vector<double> fraction;
-    fraction.resize(pending.size());
-    weighted_visible_fractions(
-        vis_, pending.size(),
-        [&](std::size_t l, int k) {
-          const Element& S = h_.elements[row[pending[l]].source];
-          return std::pair{vis_.lift(visibility_sample(L.tri, k), L.normal),
-                           vis_.lift(visibility_sample(S.tri, paired_sample(k)), S.normal)};
-        },
-        [&](std::size_t l, const Point3& p, const Point3& q) {
-          return link_weight(p, L.normal, q, h_.elements[row[pending[l]].source].normal);
-        },
-        fraction, 16);
-    for (std::size_t l = 0; l < pending.size(); ++l) {
-      Link& link = row[pending[l]];
-      double v = fraction[l];
-      if (v > 0 && v < 1) {  // partly hidden: the visible part at the rule's nodes, exactly
-        const Triangle& source = h_.elements[link.source].tri;
+    thread_local std::vector<int> candidates;
+    for (const int index : pending) {
+      Link& link = row[index];
+      const Triangle& source = h_.elements[link.source].tri;
+      const std::array<Point3, 6> hull{L.tri.v[0], L.tri.v[1], L.tri.v[2], source.v[0], source.v[1], source.v[2]};
+      exact_.shaft_occluders(hull, candidates);
+      if (candidates.empty()) {
+        link.bin[2] = kShaftClear;
+        continue;
+      }
+      bool any = false;
+      for (std::size_t q = 0; q < size; ++q)
+        any = (hidden[q] = exact_.hidden_factor(nodes[q], L.normal, source, candidates)) > 0 || any;
+      double v = 1;
+      if (any) {
+        point_triangle_factors(node_span, L.normal, source, f);
         double seen = 0, whole = 0;
-        for (int q = 0; q < rule.size; ++q) {
-          seen += rule.weights[q] * exact_.visible_factor(nodes[q], L.normal, source);
-          whole += rule.weights[q] * point_triangle_factor(nodes[q], L.normal, source);
+        for (std::size_t q = 0; q < size; ++q) {
+          seen += weights[q] * std::max(0.0, f[q] - hidden[q]);
+          whole += weights[q] * f[q];
         }
-        if (whole > 0) v = std::clamp(seen / whole, 0.0, 1.0);
+        v = whole > 0 ? std::clamp(seen / whole, 0.0, 1.0) : 0.0;
         ++stats.exact;
       }
       if (v == 1) link.bin[2] = kRaysUnanimous;
@@ -1590,7 +1648,6 @@ class LeafGather {
   }
 
   Hierarchy& h_;
-  const Visibility& vis_;
   const ExactVisibility& exact_;
   const OccluderPlanes planes_;
   bool retrace_;
@@ -1736,11 +1793,6 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
   }
   const double root_area = max_area * std::pow(4.0, kRootLevels);
   std::vector<char> occluder_two_sided;  // per root, from its input triangle (Surface::two_sided)
-  std::vector<char> occluder_outward;    // per root: a face of a closed solid, facing out (solids.h)
-  const std::vector<char> outward_solid = outward_solid_triangles(scene.surfaces);
-  std::vector<std::size_t> surface_first;  // index of each surface's first triangle in outward_solid
-  for (std::size_t s = 0, first = 0; s < scene.surfaces.size(); first += scene.surfaces[s++].mesh.triangles.size())
-    surface_first.push_back(first);
   // Element trees: breadth-first 1:4 splits until the leaves are no larger than max_area, and further
   // (down to max_area/16) where meshing.refine_direct marked a leaf (`split_further`, by its exact
   // vertices; a rebuild makes the same triangles); a parent precedes its children, and every tree
@@ -1751,7 +1803,7 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
   };
   auto build_trees = [&] {
     h = Hierarchy{};
-    occluders.clear(), occluder_two_sided.clear(), occluder_outward.clear();
+    occluders.clear(), occluder_two_sided.clear();
     for (std::size_t s = 0; s < scene.surfaces.size(); ++s) {
       const Surface& surface = scene.surfaces[s];
       const SubdividedMesh subdivided = subdivide_to_max_area_with_parents(surface.mesh, root_area);
@@ -1765,7 +1817,6 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
         occluders.push_back(tri);
         const std::size_t parent = static_cast<std::size_t>(subdivided.parent[t]);
         occluder_two_sided.push_back(parent < surface.two_sided.size() ? surface.two_sided[parent] : 0);
-        occluder_outward.push_back(outward_solid[surface_first[s] + parent]);
         for (int e = root; e < static_cast<int>(h.elements.size()); ++e) {
           const Element& el = h.elements[e];
           if (el.area <= max_area &&
@@ -1826,7 +1877,13 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
   // ---- visibility scene (the roots: the same surfaces, fewer triangles than the leaves) ----
   t0 = Clock::now();
   const Visibility vis(occluders, Visibility::Estimates::fast);  // link rays in the fast BVH
-  const ExactVisibility shafts(occluders, occluder_outward);
+  // Shafts and exact visible parts on the input triangles: fewer and larger occluders than the roots
+  // (the cube room's 24 against its 1 000 roots), so each query visits fewer of them.
+  std::vector<Triangle> input_triangles;
+  for (const Surface& s : scene.surfaces)
+    for (std::size_t t = 0; t < s.mesh.triangles.size(); ++t) input_triangles.push_back(s.mesh.triangle(t));
+  const OutwardSolids solids = outward_solids(scene.surfaces);
+  const ExactVisibility shafts(input_triangles, solids.solid, solids.convex);
   std::vector<Vector3> occluder_normals(occluders.size());
   for (std::size_t k = 0; k < occluders.size(); ++k) occluder_normals[k] = h.elements[h.roots[k]].normal;
   sol.stats.time_visibility_s = seconds_since(t0);
@@ -2027,7 +2084,7 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
       AreaFactorOptions near_field;  // as the refiner's
       near_field.rel_tolerance = std::max(near_field.rel_tolerance, 0.1 * accuracy);
       near_field.abs_tolerance = std::max(near_field.abs_tolerance, 1e-3 * accuracy);
-      LeafGather gather(h, vis, shafts, occluders, retrace, near_field);
+      LeafGather gather(h, shafts, occluders, retrace, near_field);
       const std::size_t budget =
           std::min(std::max(kLeafLinksPerLink * h.links.size(), kLeafLinksPerPatch * N), kMaxLeafLinks);
       if (!scene.solver.leaf_gather || (retrace && !h.hidden_complete) || !gather.fits(budget)) return false;

@@ -882,8 +882,10 @@ Solution solve_dense(const Scene& scene, const SolveControl& control, const std:
   t0 = Clock::now();
   sol.probes.resize(scene.probes.size());
   for (auto& c : sol.contributions) c.probes.resize(scene.probes.size());
-  // Exact partial visibility works on the input triangles (fewer, larger occluders than the patches).
-  const ExactVisibility exact(scene.probes.empty() ? std::vector<Triangle>{} : input_triangles);
+  // Exact partial visibility works on the input triangles (fewer, larger occluders than the patches),
+  // with the solids they bound (a convex solid's front faces hide the sum of their factors).
+  const OutwardSolids solids = scene.probes.empty() ? OutwardSolids{} : outward_solids(scene.surfaces);
+  const ExactVisibility exact(scene.probes.empty() ? std::vector<Triangle>{} : input_triangles, solids.solid, solids.convex);
   std::vector<char> radiates(N, 0);
   for (std::size_t j = 0; j < N; ++j) {
     const double* b = &sol.radiosity[j * W];
@@ -927,7 +929,7 @@ Solution solve_dense(const Scene& scene, const SolveControl& control, const std:
     check_cancel(control);
   }
   sol.stats.time_probes_s = seconds_since(t0);
-  sol.stats.exact_visibility_evaluations = exact.boolean_evaluations();
+  sol.stats.exact_visibility_evaluations = exact.occluded_evaluations();
 
   // ---- energy balance: emitted = absorbed + escaped ----
   std::vector<double> leak(N, 1.0);

@@ -11,6 +11,8 @@ namespace {
 
 // The components of the scene's triangles and, per component, what tells whether it is closed.
 struct Components {
+  std::vector<Triangle> triangles;  // every surface's, in order
+  std::vector<int> corner;     // corner 3 t + k → its welded position
   std::vector<int> owner;      // surface of each triangle
   std::vector<int> component;  // of each triangle: the index of its component's first triangle
   struct Sums {
@@ -27,14 +29,15 @@ struct Components {
 
 Components components(const std::vector<Surface>& surfaces) {
   Components out;
-  std::vector<Triangle> all;
+  std::vector<Triangle>& all = out.triangles;
   std::vector<Point3> corners;
   for (std::size_t s = 0; s < surfaces.size(); ++s)
     for (std::size_t t = 0; t < surfaces[s].mesh.triangles.size(); ++t) {
       all.push_back(surfaces[s].mesh.triangle(t)), out.owner.push_back(static_cast<int>(s));
       for (const Point3& p : all.back().v) corners.push_back(p);
     }
-  const std::vector<int> vertex = weld_identical_positions(corners);  // corner 3 t + k → its position
+  out.corner = weld_identical_positions(corners);
+  const std::vector<int>& vertex = out.corner;
   std::vector<int> parent(all.size());  // union–find over the triangles
   std::iota(parent.begin(), parent.end(), 0);
   auto root = [&](int x) {
@@ -84,14 +87,41 @@ std::vector<char> surfaces_bounding_solids(const std::vector<Surface>& surfaces)
   return solid;
 }
 
-std::vector<char> outward_solid_triangles(const std::vector<Surface>& surfaces) {
+OutwardSolids outward_solids(const std::vector<Surface>& surfaces) {
   const Components c = components(surfaces);
-  std::vector<char> outward(c.component.size(), 0);
+  OutwardSolids out;
+  out.solid.assign(c.component.size(), -1);
+  std::vector<int> index(c.component.size(), -1);  // component → solid
+  std::vector<std::vector<int>> faces;              // per solid: its triangles
   for (std::size_t t = 0; t < c.component.size(); ++t) {
     const int k = c.component[t];
-    outward[t] = c.closed(k) && c.sums[k].consistent && c.sums[k].volume > 0;
+    if (!(c.closed(k) && c.sums[k].consistent && c.sums[k].volume > 0)) continue;
+    if (index[k] < 0) index[k] = static_cast<int>(faces.size()), faces.emplace_back();
+    out.solid[t] = index[k];
+    faces[index[k]].push_back(static_cast<int>(t));
   }
-  return outward;
+  out.convex.assign(faces.size(), 0);
+  for (std::size_t s = 0; s < faces.size(); ++s) {
+    std::vector<int> corners;
+    for (int t : faces[s])
+      for (int k = 0; k < 3; ++k) corners.push_back(c.corner[3 * t + k]);
+    std::sort(corners.begin(), corners.end());
+    corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
+    if (static_cast<double>(corners.size()) * static_cast<double>(faces[s].size()) > OutwardSolids::kMaxConvexityChecks)
+      continue;
+    std::vector<Point3> points;  // one per welded position (corner 3 t + k has position 3 t + k too)
+    Bounds3 box;
+    for (int v : corners)
+      if (v >= 0) box.add(points.emplace_back(c.triangles[v / 3].v[v % 3]));
+    const double tolerance = 1e-9 * length(box.diagonal());
+    const auto convex_at = [&](int t) {
+      const Triangle& f = c.triangles[t];
+      const Vector3 normal = normalize(f.area_vector());
+      return std::all_of(points.begin(), points.end(), [&](const Point3& q) { return dot(normal, q - f.v[0]) <= tolerance; });
+    };
+    out.convex[s] = std::all_of(faces[s].begin(), faces[s].end(), convex_at);
+  }
+  return out;
 }
 
 }  // namespace lambert

@@ -14,12 +14,22 @@ namespace lambert {
 // Per surface: whether any of its triangles is in a closed component.
 std::vector<char> surfaces_bounding_solids(const std::vector<Surface>& surfaces);
 
-// Per triangle of every surface (surface by surface, in mesh order): whether it is in a closed
-// component whose faces point out of the volume it encloses, consistently (every edge shared by two
-// of its triangles runs opposite ways in them; an edge shared by more is taken as inconsistent). A
-// segment between two points outside that volume that crosses such a triangle from behind, leaving
-// the volume, has crossed one of the component's triangles from the front before: for visibility
-// between points outside it, its triangles seen from behind are redundant (ExactVisibility).
-std::vector<char> outward_solid_triangles(const std::vector<Surface>& surfaces);
+// The closed components whose faces point out of the volume they enclose, consistently (every edge
+// shared by two of its triangles runs opposite ways in them; an edge shared by more is taken as
+// inconsistent). A segment between two points outside that volume that crosses such a triangle from
+// behind, leaving the volume, has crossed one of the component's triangles from the front before: for
+// visibility between points outside it, its triangles seen from behind are redundant
+// (ExactVisibility). Where the solid is also convex, the triangles it turns towards a point outside
+// it are seen in directions that do not overlap: the factor they hide is the sum of theirs.
+struct OutwardSolids {
+  // Per triangle of every surface (surface by surface, in mesh order): the index of the outward solid
+  // it bounds, or −1.
+  std::vector<int> solid;
+  // Per solid: whether it is convex (every corner on or behind every face's plane, to 1e-9 of the
+  // solid's size); solids of more than kMaxConvexityChecks corner–face pairs are not checked (false).
+  std::vector<char> convex;
+  static constexpr double kMaxConvexityChecks = 5e7;
+};
+OutwardSolids outward_solids(const std::vector<Surface>& surfaces);
 
 }  // namespace lambert

@@ -1,5 +1,5 @@
 // Google Benchmark for the inner kernels: point-to-triangle factor, patch-pair cubature (far, near,
-// touching), Embree visibility (single and stream). Not a test: speed figures belong here and in
+// touching), exact visible factor past a box, Embree visibility (single and stream). Not a test: speed figures belong here and in
 // docs/BENCHMARKS.md, never in timed unit tests.
 #include <benchmark/benchmark.h>
 
@@ -7,7 +7,9 @@
 #include <vector>
 
 #include "solver/cubature.h"
+#include "solver/exact_visibility.h"
 #include "solver/form_factor.h"
+#include "solver/solids.h"
 #include "solver/visibility.h"
 #include "tests/scene_builder.h"
 
@@ -76,6 +78,29 @@ void BM_AreaFormFactorTouching(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(area_form_factor(kReceiver, wall));
 }
 BENCHMARK(BM_AreaFormFactorTouching);
+
+// The visible factor of a 1 m floor triangle from 64 points on a 3 m ceiling, past a floating 1 m box
+// (the cube room of docs/BENCHMARKS.md): every point sees the source partly hidden. `convex`: the
+// box is known convex (its front faces' factors summed), else their shadows are united
+// (inclusion–exclusion).
+void ExactVisibleFactor(benchmark::State& state, bool convex) {
+  const std::vector<Triangle> cube = test::box({1, 1, 1}, {2, 2, 2}, false);
+  const std::vector<int> solid(cube.size(), 0);
+  const std::vector<char> is_convex(1, convex ? 1 : 0);
+  const ExactVisibility exact(cube, solid, is_convex);
+  const Triangle source{{Point3{1.2, 1.1, 0}, Point3{2.3, 1.4, 0}, Point3{1.5, 2.2, 0}}};
+  std::vector<Point3> points;
+  for (int i = 0; i < 8; ++i)
+    for (int j = 0; j < 8; ++j) points.push_back({1.1 + 0.12 * i, 1.1 + 0.12 * j, 3});
+  for (auto _ : state) {
+    double sum = 0;
+    for (const Point3& p : points) sum += exact.visible_factor(p, {0, 0, -1}, source);
+    benchmark::DoNotOptimize(sum);
+  }
+  state.SetItemsProcessed(state.iterations() * points.size());
+}
+BENCHMARK_CAPTURE(ExactVisibleFactor, convex_sum, true);
+BENCHMARK_CAPTURE(ExactVisibleFactor, shadows_united, false);
 
 std::vector<Triangle> room() { return test::box({0, 0, 0}, {4, 3, 2.5}, true); }
 
