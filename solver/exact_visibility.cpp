@@ -185,6 +185,10 @@ struct ExactVisibility::Impl {
     return index;
   }
 
+  // The occluders whose parts in front of a point are seen in directions that do not overlap share a
+  // group: the front faces of one convex solid. Any other occluder is a group of its own.
+  int group(int k) const { return convex_solid[k] >= 0 ? convex_solid[k] : -2 - k; }
+
   // Whether occluder k reaches into the interior of a convex region. Most triangles lie wholly outside
   // one half-space or wholly inside every one: their corners decide, as clip_to_region would (an
   // empty part, or the whole triangle), and only triangles that cross a face are clipped.
@@ -290,6 +294,49 @@ bool make_frame(const Point3& p, const Vector3& n, const Triangle& S, Frame& f) 
 
 Triangle shifted(const Triangle& t, const Vector3& shift) { return {{t.v[0] - shift, t.v[1] - shift, t.v[2] - shift}}; }
 
+// The cone from p over the front part of S, exactly (not enlarged), and S's plane with the region's
+// margin: the part of an occluder inside it hides the directions of S it is seen in. A part lies in
+// front of p's horizon and below p's height by the cone's construction. Returns the planes' count.
+int make_cone(const Frame& f, std::array<HalfSpace, 5>& cone) {
+  const int edges = f.front_count;
+  Point3 inside = f.front[0];
+  for (int i = 1; i < edges; ++i) inside = inside + (f.front[i] - f.front[0]) / edges;
+  for (int e = 0; e < edges; ++e) {
+    Vector3 m = cross(f.front[e] - f.p, f.front[(e + 1) % edges] - f.p);
+    if (dot(m, inside - f.p) < 0) m = -m;
+    cone[e] = HalfSpace{m, f.p, 0};
+  }
+  cone[edges] = f.region[3];
+  return edges + 1;
+}
+
+constexpr int kNoGroup = std::numeric_limits<int>::min();
+
+double cross2(const Point2d& o, const Point2d& a, const Point2d& b) {
+  return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
+}
+
+// The convex hull of `points` (reordered), counter-clockwise, without collinear points (Andrew's
+// monotone chain); fewer than 3 points: empty.
+void convex_hull(std::vector<Point2d>& points, std::vector<Point2d>& hull) {
+  hull.clear();
+  std::sort(points.begin(), points.end());
+  points.erase(std::unique(points.begin(), points.end()), points.end());
+  if (points.size() < 3) return;
+  hull.resize(2 * points.size());
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < points.size(); ++i) {  // lower hull
+    while (k >= 2 && cross2(hull[k - 2], hull[k - 1], points[i]) <= 0) --k;
+    hull[k++] = points[i];
+  }
+  for (std::size_t i = points.size() - 1, lower = k + 1; i-- > 0;) {  // upper hull
+    while (k >= lower && cross2(hull[k - 2], hull[k - 1], points[i]) <= 0) --k;
+    hull[k++] = points[i];
+  }
+  hull.resize(k - 1);  // the last point is the first
+  if (hull.size() < 3) hull.clear();
+}
+
 }  // namespace
 
 ExactVisibility::VisibleRegion ExactVisibility::visible_region(const Point3& p_world, const Vector3& n,
@@ -386,22 +433,9 @@ double ExactVisibility::hidden_among(const Point3& p_world, const Vector3& n, co
   const Vector3 shift = to_vector(impl_->centre);
   Frame f;
   if (!make_frame(p_world - shift, n, shifted(source_world, shift), f)) return 0;
-  // The cone from p over the front part of S, exactly (not enlarged), and S's plane with the region's
-  // margin: the part of an occluder inside it hides the directions of S it is seen in. A part lies
-  // in front of p's horizon and below p's height by the cone's construction.
   std::array<HalfSpace, 5> cone;
-  const int edges = f.front_count;
-  Point3 inside = f.front[0];
-  for (int i = 1; i < edges; ++i) inside = inside + (f.front[i] - f.front[0]) / edges;
-  for (int e = 0; e < edges; ++e) {
-    Vector3 m = cross(f.front[e] - f.p, f.front[(e + 1) % edges] - f.p);
-    if (dot(m, inside - f.p) < 0) m = -m;
-    cone[e] = HalfSpace{m, f.p, 0};
-  }
-  cone[edges] = f.region[3];
-  const std::span<const HalfSpace> cone_span(cone.data(), edges + 1);
-  constexpr int kNone = std::numeric_limits<int>::min();
-  int group = kNone;  // the convex solid of the parts so far, or −2 − k for occluder k alone
+  const std::span<const HalfSpace> cone_span(cone.data(), make_cone(f, cone));
+  int group = kNoGroup;  // the convex solid of the parts so far, or −2 − k for occluder k alone
   bool several = false;
   double hidden = 0;
   thread_local ClipBuffers buffers;
@@ -413,8 +447,8 @@ double ExactVisibility::hidden_among(const Point3& p_world, const Vector3& n, co
     if (part.size() < 3) return false;
     const double factor = std::abs(point_boundary_factor(f.p, n, part));
     if (!(factor > 0)) return false;
-    const int g = impl_->convex_solid[k] >= 0 ? impl_->convex_solid[k] : -2 - k;
-    if (group != kNone && g != group) return several = true;
+    const int g = impl_->group(k);
+    if (group != kNoGroup && g != group) return several = true;
     group = g;
     hidden += factor;
     return false;
@@ -425,7 +459,7 @@ double ExactVisibility::hidden_among(const Point3& p_world, const Vector3& n, co
     for (const int k : *candidates)
       if (visit(k)) break;
   }
-  if (group == kNone) return 0;
+  if (group == kNoGroup) return 0;
   occluded_.fetch_add(1, std::memory_order_relaxed);
   if (!several) return hidden;
   return std::max(0.0, point_triangle_factor(p_world, n, source_world) -
@@ -436,6 +470,98 @@ double ExactVisibility::visible_factor(const Point3& p, const Vector3& n, const 
   const double hidden = hidden_factor(p, n, source);
   const double whole = point_triangle_factor(p, n, source);
   return hidden > 0 ? std::max(0.0, whole - hidden) : whole;
+}
+
+void ExactVisibility::shadow(const Point3& p_world, const Vector3& n, const Triangle& carrier_world,
+                             std::span<const int> candidates, Shadow& out) const {
+  out.formed_ = true;
+  out.polygon_.clear();
+  const Vector3 shift = to_vector(impl_->centre);
+  Frame f;
+  if (!make_frame(p_world - shift, n, shifted(carrier_world, shift), f)) return;  // no part of it is seen
+  std::array<HalfSpace, 5> cone;
+  const std::span<const HalfSpace> cone_span(cone.data(), make_cone(f, cone));
+  const Point3& s0 = f.S.v[0];
+  out.origin_ = carrier_world.v[0];
+  out.n_ = n;
+  out.e1_ = normalize(f.S.v[1] - s0);
+  out.e2_ = cross(f.ns, out.e1_);
+  out.to_origin_ = s0 - f.p;
+  thread_local std::vector<Point2d> points;
+  thread_local ClipBuffers buffers;
+  points.clear();
+  int group = kNoGroup;
+  for (const int k : candidates) {
+    const Triangle& t = impl_->triangles[k];
+    if (impl_->outward_solid[k] && dot(t.area_vector(), f.p - t.v[0]) <= 0) continue;  // seen from behind
+    if (corner_verdict(t, f.region) < 0) continue;
+    const std::span<const Point3> part = clip_to_region(t, cone_span, buffers);
+    if (part.size() < 3) continue;
+    // A part of no area (an occluder touching the cone's boundary) hides nothing.
+    Vector3 twice_area;
+    double extent = 0;  // the longest edge, squared
+    for (std::size_t i = 0; i < part.size(); ++i) {
+      extent = std::max(extent, length_squared(part[(i + 1) % part.size()] - part[i]));
+      if (i >= 1 && i + 1 < part.size()) twice_area = twice_area + cross(part[i] - part[0], part[i + 1] - part[0]);
+    }
+    if (!(length(twice_area) > 1e-12 * extent)) continue;
+    const int g = impl_->group(k);
+    if (group != kNoGroup && g != group) {
+      out.formed_ = false;  // parts of several groups may overlap: each source takes hidden_factor
+      return;
+    }
+    group = g;
+    for (const Point3& q : part) {
+      const Point3 y = f.p + (q - f.p) * (f.h / (f.h - dot(f.ns, q - s0)));
+      points.push_back({dot(y - s0, out.e1_), dot(y - s0, out.e2_)});
+    }
+  }
+  if (group == kNoGroup) return;
+  occluded_.fetch_add(1, std::memory_order_relaxed);
+  convex_hull(points, out.polygon_);
+  out.lo_ = {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
+  out.hi_ = {-out.lo_[0], -out.lo_[1]};
+  for (const Point2d& y : out.polygon_)
+    for (int a = 0; a < 2; ++a) out.lo_[a] = std::min(out.lo_[a], y[a]), out.hi_[a] = std::max(out.hi_[a], y[a]);
+}
+
+double ExactVisibility::Shadow::hidden_factor(const Triangle& part) const {
+  if (polygon_.empty()) return 0;
+  std::array<Point2d, 3> c;
+  Point2d lo = {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
+  Point2d hi = {-lo[0], -lo[1]};
+  for (int k = 0; k < 3; ++k) {
+    const Vector3 d = part.v[k] - origin_;
+    c[k] = {dot(d, e1_), dot(d, e2_)};
+    for (int a = 0; a < 2; ++a) lo[a] = std::min(lo[a], c[k][a]), hi[a] = std::max(hi[a], c[k][a]);
+  }
+  if (lo[0] >= hi_[0] || hi[0] <= lo_[0] || lo[1] >= hi_[1] || hi[1] <= lo_[1]) return 0;
+  if (cross2(c[0], c[1], c[2]) < 0) std::swap(c[1], c[2]);
+  // The shadow clipped to the part (Sutherland–Hodgman against its three edges), then the contour
+  // sum over what is left, each vertex relative to p.
+  thread_local std::vector<Point2d> in, out;
+  in.assign(polygon_.begin(), polygon_.end());
+  for (int e = 0; e < 3 && in.size() >= 3; ++e) {
+    const Point2d& a = c[e];
+    const Point2d& b = c[(e + 1) % 3];
+    out.clear();
+    for (std::size_t i = 0, m = in.size(); i < m; ++i) {
+      const Point2d& u = in[i];
+      const Point2d& w = in[i + 1 < m ? i + 1 : 0];
+      const double su = cross2(a, b, u), sw = cross2(a, b, w);
+      if (su >= 0) out.push_back(u);
+      if ((su >= 0) != (sw >= 0)) {
+        const double t = su / (su - sw);
+        out.push_back({u[0] + (w[0] - u[0]) * t, u[1] + (w[1] - u[1]) * t});
+      }
+    }
+    in.swap(out);
+  }
+  if (in.size() < 3) return 0;
+  thread_local std::vector<Point3> loop;
+  loop.clear();
+  for (const Point2d& y : in) loop.push_back(Point3{} + (to_origin_ + e1_ * y[0] + e2_ * y[1]));
+  return std::abs(point_boundary_factor(Point3{}, n_, loop));
 }
 
 namespace {

@@ -71,6 +71,31 @@ class ExactVisibility {
   };
   VisibleRegion visible_region(const Point3& p, const Vector3& n, const Triangle& source) const;
 
+  // What occludes the plane of a triangle (`carrier`: an input triangle, say) from p, cast onto that
+  // plane, so that one projection serves every source inside the carrier (the patches cut from it)
+  // seen from p. It is formed where what occludes, among `candidates` (occluder indices from
+  // shaft_occluders of a hull holding p and the carrier), is one triangle or front faces of one
+  // convex solid: the shadow is then one convex polygon, the projection of their parts inside the
+  // cone from p over the carrier. Otherwise it is not formed, and hidden_factor serves each source.
+  class Shadow {
+   public:
+    bool formed() const { return formed_; }
+    // hidden_factor(p, n, part) for a triangle `part` inside the carrier.
+    double hidden_factor(const Triangle& part) const;
+
+   private:
+    friend class ExactVisibility;
+    bool formed_ = false;
+    Point3 origin_;               // the carrier's first corner, in metres
+    Vector3 n_, e1_, e2_;         // the receiver's normal; the carrier's plane's axes
+    Vector3 to_origin_;           // origin_ − p
+    std::vector<Point2d> polygon_;  // counter-clockwise in (e1_, e2_) about origin_; empty: nothing hidden
+    Point2d lo_{}, hi_{};         // its bounding box
+  };
+  // Forms `out` (its storage reused) for p, normal n and the carrier.
+  void shadow(const Point3& p, const Vector3& n, const Triangle& carrier, std::span<const int> candidates,
+              Shadow& out) const;
+
   // Whether no occluder reaches into the interior of the convex hull of `points` (at most 16): for
   // the vertices of two elements, the shaft that holds every segment between them, so a clear shaft
   // means the pair sees each other wholly, with no ray traced (Haines & Wallace's shaft culling, with

@@ -74,6 +74,7 @@ struct Element {
   int first_child = -1;  // four children, contiguous; -1 for a leaf
   int leaf = -1;         // index of the unknown (output patch) for a leaf
   int root = -1;         // the root element of its tree
+  int input = -1;        // the input triangle its tree was cut from (every surface's, in order)
 };
 
 // A node of the BVH over the roots. Its FacetBounds (box, bins, area vector, normal cone) cover its
@@ -1281,12 +1282,14 @@ class Refiner {
 // (occluder_planes.h). Links found partly hidden stay as they are. With `retrace` (the scene's
 // solver.exact_visibility), every link is expanded, those found hidden too (Hierarchy::hidden_links),
 // and each leaf link whose visibility is not proven is evaluated exactly, with no ray: the occluders
-// in the pair's shaft (ExactVisibility::shaft_occluders; none: wholly visible), and at each node of
-// the leaf's rule the factor they hide (ExactVisibility::hidden_factor). The raw closure error of the
+// in the shaft between the leaf and the input triangle its source was cut from
+// (ExactVisibility::shaft_occluders; none: wholly visible), and at each node of the leaf's rule the
+// factor they hide (their shadow on that triangle's plane, ExactVisibility::Shadow, or
+// ExactVisibility::hidden_factor where several groups of occluders overlap). The raw closure error of the
 // room with a floating cube (18 176 patches): 2.1 % before the gather, 1.6 % after it by default (the
 // partly hidden links stay), 2e-6 with retrace, as in the room without the cube; with the leaf's own
 // 16 rays in place of the exact evaluation it was 7e-4 (rays that agreed by chance), and 1.7e-4 with
-// the leaf-wide rule in place of leaf_rule's pieces. Retrace costs about 3 × the time there.
+// the leaf-wide rule in place of leaf_rule's pieces. Retrace costs about 1.4 × the time there.
 //
 // Memory and time grow with the leaf links, about 10 per expanded link in the rooms of
 // docs/BENCHMARKS.md; a scene whose leaf links would exceed the budget keeps its links.
@@ -1311,9 +1314,10 @@ struct LeafGatherStats {
 
 class LeafGather {
  public:
-  LeafGather(Hierarchy& h, const ExactVisibility& exact, std::span<const Triangle> occluders, bool retrace,
-             const AreaFactorOptions& near_field)
-      : h_(h), exact_(exact), planes_(occluders), retrace_(retrace), near_field_(near_field) {
+  // inputs: the input triangles (Element::input), which ExactVisibility holds as its occluders.
+  LeafGather(Hierarchy& h, const ExactVisibility& exact, std::span<const Triangle> occluders,
+             std::span<const Triangle> inputs, bool retrace, const AreaFactorOptions& near_field)
+      : h_(h), exact_(exact), planes_(occluders), inputs_(inputs), retrace_(retrace), near_field_(near_field) {
     const std::size_t E = h.elements.size();
     leaves_below_.assign(E, 0);
     for (std::size_t e = E; e-- > 0;) {  // children come after their parent
@@ -1570,7 +1574,7 @@ class LeafGather {
     const std::span<const Point3> node_span(nodes);
     f.resize(size), hidden.resize(size);
     const std::size_t begin = row.size();
-    std::vector<int> pending;  // indices into row of links whose visibility takes the leaf's rays
+    std::vector<int> pending;  // indices into row of links whose visibility is evaluated at the leaf
     for (const Entry& entry : entries) {
       const Element& S = h_.elements[entry.source];
       if (entry.source == e || h_.is_enclosed(entry.source) || !any_in_front(L.tri, L.normal, S.tri) ||
@@ -1609,37 +1613,55 @@ class LeafGather {
     }
     // The visible part at the rule's nodes, exactly (no rays: rays that agree by chance were what kept
     // the rows near an occluder from closing): F(x_q -> S) less the factor the occluders hide at
-    // each node, as a fraction of the link's unoccluded rule.
-    // The occluders in the pair's shaft are the only ones any node can see in front of the source:
-    // found once, and none means the pair sees each other wholly.
+    // each node, as a fraction of the link's unoccluded rule. The links are taken by the input
+    // triangle their source was cut from: the occluders in the shaft between the leaf and that
+    // triangle are the only ones any node can see in front of its sources (none: every one is wholly
+    // visible), and where they are one convex solid or one triangle, their shadow on its plane from
+    // each node serves all its sources (ExactVisibility::Shadow); otherwise each source takes
+    // hidden_factor among them.
     stats.traced += pending.size();
+    std::sort(pending.begin(), pending.end(), [&](int a, int b) {
+      return std::pair{h_.elements[row[a].source].input, a} < std::pair{h_.elements[row[b].source].input, b};
+    });
     thread_local std::vector<int> candidates;
-    for (const int index : pending) {
-      Link& link = row[index];
-      const Triangle& source = h_.elements[link.source].tri;
-      const std::array<Point3, 6> hull{L.tri.v[0], L.tri.v[1], L.tri.v[2], source.v[0], source.v[1], source.v[2]};
+    thread_local std::vector<ExactVisibility::Shadow> shadows;
+    if (shadows.size() < size) shadows.resize(size);
+    for (std::size_t g = 0, next; g < pending.size(); g = next) {
+      const int input = h_.elements[row[pending[g]].source].input;
+      for (next = g + 1; next < pending.size() && h_.elements[row[pending[next]].source].input == input; ++next) {
+      }
+      const Triangle& T = inputs_[input];
+      const std::array<Point3, 6> hull{L.tri.v[0], L.tri.v[1], L.tri.v[2], T.v[0], T.v[1], T.v[2]};
       exact_.shaft_occluders(hull, candidates);
       if (candidates.empty()) {
-        link.bin[2] = kShaftClear;
+        for (std::size_t l = g; l < next; ++l) row[pending[l]].bin[2] = kShaftClear;
         continue;
       }
-      bool any = false;
-      for (std::size_t q = 0; q < size; ++q)
-        any = (hidden[q] = exact_.hidden_factor(nodes[q], L.normal, source, candidates)) > 0 || any;
-      double v = 1;
-      if (any) {
-        point_triangle_factors(node_span, L.normal, source, f);
-        double seen = 0, whole = 0;
+      for (std::size_t q = 0; q < size; ++q) exact_.shadow(nodes[q], L.normal, T, candidates, shadows[q]);
+      for (std::size_t l = g; l < next; ++l) {
+        Link& link = row[pending[l]];
+        const Triangle& source = h_.elements[link.source].tri;
+        bool any = false;
         for (std::size_t q = 0; q < size; ++q) {
-          seen += weights[q] * std::max(0.0, f[q] - hidden[q]);
-          whole += weights[q] * f[q];
+          hidden[q] = shadows[q].formed() ? shadows[q].hidden_factor(source)
+                                          : exact_.hidden_factor(nodes[q], L.normal, source, candidates);
+          any = any || hidden[q] > 0;
         }
-        v = whole > 0 ? std::clamp(seen / whole, 0.0, 1.0) : 0.0;
-        ++stats.exact;
+        double v = 1;
+        if (any) {
+          point_triangle_factors(node_span, L.normal, source, f);
+          double seen = 0, whole = 0;
+          for (std::size_t q = 0; q < size; ++q) {
+            seen += weights[q] * std::max(0.0, f[q] - hidden[q]);
+            whole += weights[q] * f[q];
+          }
+          v = whole > 0 ? std::clamp(seen / whole, 0.0, 1.0) : 0.0;
+          ++stats.exact;
+        }
+        if (v == 1) link.bin[2] = kRaysUnanimous;
+        for (float& c : link.coeff) c = static_cast<float>(c * v);
+        if (!(v > 0)) link.source = kReplaced;  // hidden: dropped below
       }
-      if (v == 1) link.bin[2] = kRaysUnanimous;
-      for (float& c : link.coeff) c = static_cast<float>(c * v);
-      if (!(v > 0)) link.source = kReplaced;  // hidden: dropped below
     }
     row.erase(std::remove_if(row.begin() + static_cast<std::ptrdiff_t>(begin), row.end(),
                              [](const Link& l) { return l.source == kReplaced; }),
@@ -1650,6 +1672,7 @@ class LeafGather {
   Hierarchy& h_;
   const ExactVisibility& exact_;
   const OccluderPlanes planes_;
+  std::span<const Triangle> inputs_;
   bool retrace_;
   bool all_clear_ = false;  // no occluder plane at all: every pair is clear
   AreaFactorOptions near_field_;
@@ -1804,7 +1827,7 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
   auto build_trees = [&] {
     h = Hierarchy{};
     occluders.clear(), occluder_two_sided.clear();
-    for (std::size_t s = 0; s < scene.surfaces.size(); ++s) {
+    for (std::size_t s = 0, first_input = 0; s < scene.surfaces.size(); first_input += scene.surfaces[s++].mesh.triangles.size()) {
       const Surface& surface = scene.surfaces[s];
       const SubdividedMesh subdivided = subdivide_to_max_area_with_parents(surface.mesh, root_area);
       const TriangleMesh& pieces = subdivided.mesh;
@@ -1816,6 +1839,7 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
         h.roots.push_back(root);
         occluders.push_back(tri);
         const std::size_t parent = static_cast<std::size_t>(subdivided.parent[t]);
+        h.elements[root].input = static_cast<int>(first_input + parent);
         occluder_two_sided.push_back(parent < surface.two_sided.size() ? surface.two_sided[parent] : 0);
         for (int e = root; e < static_cast<int>(h.elements.size()); ++e) {
           const Element& el = h.elements[e];
@@ -1824,7 +1848,10 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
             continue;
           const auto children = split4(el.tri);
           h.elements[e].first_child = static_cast<int>(h.elements.size());
-          for (const Triangle& c : children) h.elements.push_back(make_element(c, static_cast<int>(s), e, root));
+          for (const Triangle& c : children) {
+            h.elements.push_back(make_element(c, static_cast<int>(s), e, root));
+            h.elements.back().input = h.elements[root].input;
+          }
         }
         h.root_block.emplace_back(root, static_cast<int>(h.elements.size()));
       }
@@ -2084,7 +2111,7 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
       AreaFactorOptions near_field;  // as the refiner's
       near_field.rel_tolerance = std::max(near_field.rel_tolerance, 0.1 * accuracy);
       near_field.abs_tolerance = std::max(near_field.abs_tolerance, 1e-3 * accuracy);
-      LeafGather gather(h, shafts, occluders, retrace, near_field);
+      LeafGather gather(h, shafts, occluders, input_triangles, retrace, near_field);
       const std::size_t budget =
           std::min(std::max(kLeafLinksPerLink * h.links.size(), kLeafLinksPerPatch * N), kMaxLeafLinks);
       if (!scene.solver.leaf_gather || (retrace && !h.hidden_complete) || !gather.fits(budget)) return false;

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <numeric>
 #include <random>
 #include <set>
 
@@ -563,6 +564,64 @@ TEST(ExactVisibility, AConvexSolidsFrontFacesHideTheSumOfTheirFactors) {
     EXPECT_GT(summing.occluded_evaluations(), 60u) << c.name;
     if (c.convex) EXPECT_EQ(summing.boolean_evaluations(), 0u) << c.name;
     else EXPECT_GT(summing.boolean_evaluations(), 0u) << c.name;
+  }
+}
+
+TEST(ExactVisibility, OneShadowServesEveryPartOfACarrier) {
+  // A floor triangle (the carrier) cut into 1:4 pieces down to 1/256 of it, seen from points on a
+  // ceiling past a floating box, a tilted plate, or both: the shadow cast on the floor's plane from
+  // each point gives every piece the factor that hidden_factor finds for it alone, to 1e-12 of the
+  // piece's unoccluded factor; with both occluders (two groups whose shadows may overlap) it is not
+  // formed.
+  const Triangle carrier{{Point3{-1, -1, 0}, Point3{5, -0.5, 0}, Point3{1.5, 5, 0}}};
+  std::vector<Triangle> pieces{carrier};
+  for (int level = 0; level < 4; ++level) {
+    std::vector<Triangle> next;
+    for (const Triangle& t : pieces)
+      for (const Triangle& c : split4(t)) next.push_back(c);
+    pieces.swap(next);
+  }
+  const auto cube = test::box({1, 1, 1}, {2, 2, 2}, false);
+  const Triangle plate{{Point3{2.5, 0.2, 1.2}, Point3{3.6, 0.6, 1.9}, Point3{2.7, 1.5, 1.4}}};
+  std::vector<Triangle> both = cube;
+  both.push_back(plate);
+  struct Case {
+    std::vector<Triangle> occluders;
+    bool formed;
+  };
+  const Case cases[] = {{cube, true}, {{plate}, true}, {both, false}};
+  for (const Case& c : cases) {
+    std::vector<Triangle> scene = c.occluders;
+    scene.push_back(carrier);  // the carrier itself: in its own plane, it hides nothing
+    std::vector<int> solid(scene.size(), -1);
+    if (c.occluders.size() >= 12)
+      for (int k = 0; k < 12; ++k) solid[k] = 0;
+    const std::vector<char> convex(1, 1);
+    const ExactVisibility ev(scene, solid, convex);
+    std::vector<int> candidates(scene.size());
+    std::iota(candidates.begin(), candidates.end(), 0);
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> u(0, 1);
+    int hidden_pieces = 0;
+    ExactVisibility::Shadow shadow;
+    for (int trial = 0; trial < 40; ++trial) {
+      const Point3 p{-0.5 + 4 * u(rng), -0.5 + 4 * u(rng), 3};
+      const Vector3 n = normalize(Vector3{0.8 * (u(rng) - 0.5), 0.8 * (u(rng) - 0.5), -1});
+      ev.shadow(p, n, carrier, candidates, shadow);
+      if (!c.formed) {
+        if (shadow.formed()) continue;  // this point sees only one of the two in front of the floor
+        ++hidden_pieces;
+        continue;
+      }
+      ASSERT_TRUE(shadow.formed());
+      for (const Triangle& piece : pieces) {
+        const double expected = ev.hidden_factor(p, n, piece, candidates);
+        EXPECT_NEAR(shadow.hidden_factor(piece), expected, 1e-12 * point_triangle_factor(p, n, piece) + 1e-15)
+            << "trial " << trial;
+        hidden_pieces += expected > 0;
+      }
+    }
+    EXPECT_GT(hidden_pieces, c.formed ? 200 : 10);
   }
 }
 
