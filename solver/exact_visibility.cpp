@@ -537,6 +537,13 @@ double ExactVisibility::Shadow::hidden_factor(const Triangle& part) const {
   }
   if (lo[0] >= hi_[0] || hi[0] <= lo_[0] || lo[1] >= hi_[1] || hi[1] <= lo_[1]) return 0;
   if (cross2(c[0], c[1], c[2]) < 0) std::swap(c[1], c[2]);
+  // Wholly inside the shadow (convex: its corners are): all of it is hidden.
+  const auto in_shadow = [&](const Point2d& y) {
+    for (std::size_t i = 0, m = polygon_.size(); i < m; ++i)
+      if (cross2(polygon_[i], polygon_[i + 1 < m ? i + 1 : 0], y) < 0) return false;
+    return true;
+  };
+  if (in_shadow(c[0]) && in_shadow(c[1]) && in_shadow(c[2])) return std::numeric_limits<double>::infinity();
   // The shadow clipped to the part (Sutherland–Hodgman against its three edges), then the contour
   // sum over what is left, each vertex relative to p.
   thread_local std::vector<Point2d> in, out;

@@ -80,7 +80,9 @@ class ExactVisibility {
   class Shadow {
    public:
     bool formed() const { return formed_; }
-    // hidden_factor(p, n, part) for a triangle `part` inside the carrier.
+    // hidden_factor(p, n, part) for a triangle `part` inside the carrier; +∞ where the shadow covers
+    // all of it (the factor hidden is then point_triangle_factor(p, n, part), which the caller
+    // usually has: no contour sum is spent on it).
     double hidden_factor(const Triangle& part) const;
 
    private:

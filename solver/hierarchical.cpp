@@ -1643,6 +1643,7 @@ class LeafGather {
         const Triangle& source = h_.elements[link.source].tri;
         bool any = false;
         for (std::size_t q = 0; q < size; ++q) {
+          // +∞: wholly in the shadow, f[q] − hidden[q] is then 0 below
           hidden[q] = shadows[q].formed() ? shadows[q].hidden_factor(source)
                                           : exact_.hidden_factor(nodes[q], L.normal, source, candidates);
           any = any || hidden[q] > 0;

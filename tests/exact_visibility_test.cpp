@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <numeric>
 #include <random>
 #include <set>
@@ -568,18 +569,19 @@ TEST(ExactVisibility, AConvexSolidsFrontFacesHideTheSumOfTheirFactors) {
 }
 
 TEST(ExactVisibility, OneShadowServesEveryPartOfACarrier) {
-  // A floor triangle (the carrier) cut into 1:4 pieces down to 1/256 of it, seen from points on a
-  // ceiling past a floating box, a tilted plate, or both: the shadow cast on the floor's plane from
-  // each point gives every piece the factor that hidden_factor finds for it alone, to 1e-12 of the
-  // piece's unoccluded factor; with both occluders (two groups whose shadows may overlap) it is not
-  // formed.
+  // A floor triangle (the carrier) and its 1:4 pieces of every level down to 1/256 of it, seen from
+  // points on a ceiling past a floating box, a tilted plate, or both: the shadow cast on the floor's
+  // plane from each point gives every piece the factor that hidden_factor finds for it alone, to
+  // 1e-12 of the piece's unoccluded factor (pieces wholly in the shadow: all of theirs); with both
+  // occluders (two groups whose shadows may overlap) it is not formed.
   const Triangle carrier{{Point3{-1, -1, 0}, Point3{5, -0.5, 0}, Point3{1.5, 5, 0}}};
-  std::vector<Triangle> pieces{carrier};
-  for (int level = 0; level < 4; ++level) {
+  std::vector<Triangle> pieces{carrier}, level{carrier};  // the carrier and its pieces of every level
+  for (int depth = 0; depth < 4; ++depth) {
     std::vector<Triangle> next;
-    for (const Triangle& t : pieces)
+    for (const Triangle& t : level)
       for (const Triangle& c : split4(t)) next.push_back(c);
-    pieces.swap(next);
+    level.swap(next);
+    pieces.insert(pieces.end(), level.begin(), level.end());
   }
   const auto cube = test::box({1, 1, 1}, {2, 2, 2}, false);
   const Triangle plate{{Point3{2.5, 0.2, 1.2}, Point3{3.6, 0.6, 1.9}, Point3{2.7, 1.5, 1.4}}};
@@ -602,7 +604,7 @@ TEST(ExactVisibility, OneShadowServesEveryPartOfACarrier) {
     std::iota(candidates.begin(), candidates.end(), 0);
     std::mt19937 rng(3);
     std::uniform_real_distribution<double> u(0, 1);
-    int hidden_pieces = 0;
+    int hidden_pieces = 0, covered_pieces = 0;
     ExactVisibility::Shadow shadow;
     for (int trial = 0; trial < 40; ++trial) {
       const Point3 p{-0.5 + 4 * u(rng), -0.5 + 4 * u(rng), 3};
@@ -616,12 +618,17 @@ TEST(ExactVisibility, OneShadowServesEveryPartOfACarrier) {
       ASSERT_TRUE(shadow.formed());
       for (const Triangle& piece : pieces) {
         const double expected = ev.hidden_factor(p, n, piece, candidates);
-        EXPECT_NEAR(shadow.hidden_factor(piece), expected, 1e-12 * point_triangle_factor(p, n, piece) + 1e-15)
-            << "trial " << trial;
+        const double unoccluded = point_triangle_factor(p, n, piece);
+        double hidden = shadow.hidden_factor(piece);
+        if (std::isinf(hidden)) hidden = unoccluded, ++covered_pieces;  // wholly in the shadow
+        EXPECT_NEAR(hidden, expected, 1e-12 * unoccluded + 1e-15) << "trial " << trial;
         hidden_pieces += expected > 0;
       }
     }
     EXPECT_GT(hidden_pieces, c.formed ? 200 : 10);
+    if (c.formed) {
+      EXPECT_GT(covered_pieces, 20);
+    }
   }
 }
 
