@@ -1523,25 +1523,23 @@ class LeafGather {
     thread_local std::vector<Triangle> pieces, next;
     pieces.assign(1, L.tri);
     if (retrace_) {
-      std::array<std::pair<Vector3, double>, kMaxCuttingPlanes> planes;  // unit normal, offset
+      std::array<std::pair<Vector3, Point3>, kMaxCuttingPlanes> planes;  // unit normal, a point on it
       int count = 0;
-      const double tolerance = 1e-9 * (1 + length(to_vector(L.centre)));
+      const double tolerance = 1e-6 * L.radius;  // planes closer than this at the leaf: one cut
       for (const Entry& entry : entries) {
         const Element& S = h_.elements[entry.source];
         if (count == kMaxCuttingPlanes || !front_part(L.tri, S.tri.v[0], S.tri.area_vector()).cut) continue;
-        const double offset = dot(S.normal, to_vector(S.tri.v[0]));
         const bool known = std::any_of(planes.begin(), planes.begin() + count, [&](const auto& plane) {
-          const double c = dot(plane.first, S.normal);
-          return (c > 1 - 1e-12 && std::abs(plane.second - offset) <= tolerance) ||
-                 (c < -1 + 1e-12 && std::abs(plane.second + offset) <= tolerance);
+          return std::abs(dot(plane.first, S.normal)) > 1 - 1e-12 &&
+                 std::abs(dot(plane.first, S.tri.v[0] - plane.second)) <= tolerance;
         });
-        if (!known) planes[count++] = {S.normal, offset};
+        if (!known) planes[count++] = {S.normal, S.tri.v[0]};
       }
       for (int k = 0; k < count; ++k) {
-        const Point3 o = Point3{} + planes[k].first * planes[k].second;
+        const auto& [m, o] = planes[k];
         next.clear();
         for (const Triangle& t : pieces) {
-          const FrontPart front = front_part(t, o, planes[k].first), back = front_part(t, o, -planes[k].first);
+          const FrontPart front = front_part(t, o, m), back = front_part(t, o, -m);
           if (!front.cut) {
             next.push_back(t);
             continue;

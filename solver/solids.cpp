@@ -101,14 +101,16 @@ OutwardSolids outward_solids(const std::vector<Surface>& surfaces) {
     faces[index[k]].push_back(static_cast<int>(t));
   }
   out.convex.assign(faces.size(), 0);
+  double budget = OutwardSolids::kMaxConvexityChecks;  // corner–face pairs, over all solids
   for (std::size_t s = 0; s < faces.size(); ++s) {
     std::vector<int> corners;
     for (int t : faces[s])
       for (int k = 0; k < 3; ++k) corners.push_back(c.corner[3 * t + k]);
     std::sort(corners.begin(), corners.end());
     corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
-    if (static_cast<double>(corners.size()) * static_cast<double>(faces[s].size()) > OutwardSolids::kMaxConvexityChecks)
-      continue;
+    const double checks = static_cast<double>(corners.size()) * static_cast<double>(faces[s].size());
+    if (checks > budget) continue;
+    budget -= checks;
     std::vector<Point3> points;  // one per welded position (corner 3 t + k has position 3 t + k too)
     Bounds3 box;
     for (int v : corners)

@@ -26,7 +26,8 @@ struct OutwardSolids {
   // it bounds, or −1.
   std::vector<int> solid;
   // Per solid: whether it is convex (every corner on or behind every face's plane, to 1e-9 of the
-  // solid's size); solids of more than kMaxConvexityChecks corner–face pairs are not checked (false).
+  // solid's size). At most kMaxConvexityChecks corner–face pairs are checked over all solids (about
+  // 0.1 s); a solid beyond that budget is not checked (false).
   std::vector<char> convex;
   static constexpr double kMaxConvexityChecks = 5e7;
 };
