@@ -15,6 +15,13 @@
 // The projections are subtracted from S (clipped at p's horizon) by mesh/polygon_boolean.h (CGAL
 // Polygon_set_2, exact constructions), and the visible factor is the signed contour sum over the
 // outer boundaries (counter-clockwise) and holes (clockwise) of the result.
+//
+// Where the occluding parts are seen in directions that do not overlap (one triangle, or the front
+// faces of one convex solid), no union is needed. The factor they hide is the sum of the factors of
+// their parts inside the exact cone from p over S's front (hidden_factor: the contour sum of a
+// polygon depends only on the directions it covers, so the part need not be projected). For many
+// sources in one plane (Shadow), the parts are projected onto the plane once and their convex hull,
+// which is then their union, is clipped to each source.
 #include "solver/exact_visibility.h"
 
 #include <algorithm>

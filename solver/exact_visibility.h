@@ -7,6 +7,8 @@
 // inclusion–exclusion over their convex intersections — and the point-to-polygon contour integral is
 // summed over the visible pieces and their holes. So E = π L F(visible part) holds
 // to round-off, for any number and shape of occluders (the CIE 171 case 5.7 geometry, REFERENCES V9).
+// Where only one triangle or one convex solid occludes, the hidden factor is summed over its front
+// faces' parts in the cone over the source, with no union (hidden_factor, Shadow).
 // Rays remain the fast path for wholly visible and wholly hidden sources; this is for the rest.
 //
 // The Boolean operations are CGAL's, behind mesh/polygon_boolean.h.
