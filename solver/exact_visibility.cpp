@@ -106,25 +106,31 @@ double signed_area(const Loop2d& loop) {
 // The part of `subject` inside convex counter-clockwise `clip` (Sutherland–Hodgman, doubles). The
 // subject keeps its orientation; a subject that is not convex may come out with edges doubling back
 // along the clip's boundary, which cancel in a contour sum.
-Loop2d clip_convex(const Loop2d& subject, const Loop2d& clip) {
-  Loop2d out = subject;
+// The same into `out`, with `scratch` for the passes between: no allocation once they have room.
+void clip_convex_into(std::span<const Point2d> subject, std::span<const Point2d> clip, Loop2d& out, Loop2d& scratch) {
+  out.assign(subject.begin(), subject.end());
   for (std::size_t e = 0, m = clip.size(); e < m && out.size() >= 3; ++e) {
     const Point2d& a = clip[e];
     const Point2d& b = clip[(e + 1) % m];
     auto side = [&](const Point2d& q) { return (b[0] - a[0]) * (q[1] - a[1]) - (b[1] - a[1]) * (q[0] - a[0]); };
-    Loop2d next;
+    scratch.clear();
     for (std::size_t i = 0, n = out.size(); i < n; ++i) {
       const Point2d& u = out[i];
       const Point2d& w = out[(i + 1) % n];
       const double su = side(u), sw = side(w);
-      if (su >= 0) next.push_back(u);
+      if (su >= 0) scratch.push_back(u);
       if ((su >= 0) != (sw >= 0)) {
         const double t = su / (su - sw);
-        next.push_back({u[0] + (w[0] - u[0]) * t, u[1] + (w[1] - u[1]) * t});
+        scratch.push_back({u[0] + (w[0] - u[0]) * t, u[1] + (w[1] - u[1]) * t});
       }
     }
-    out = std::move(next);
+    out.swap(scratch);
   }
+}
+
+Loop2d clip_convex(const Loop2d& subject, const Loop2d& clip) {
+  Loop2d out, scratch;
+  clip_convex_into(subject, clip, out, scratch);
   return out;
 }
 
@@ -195,6 +201,14 @@ struct ExactVisibility::Impl {
   // The occluders whose parts in front of a point are seen in directions that do not overlap share a
   // group: the front faces of one convex solid. Any other occluder is a group of its own.
   int group(int k) const { return convex_solid[k] >= 0 ? convex_solid[k] : -2 - k; }
+
+  // What the corners of occluder k tell of it against the region that can occlude seen from p
+  // (corner_verdict), −1 also for a face of an outward solid that p sees from behind.
+  int verdict(int k, const Point3& p, std::span<const HalfSpace> region) const {
+    const Triangle& t = triangles[k];
+    if (outward_solid[k] && dot(t.area_vector(), p - t.v[0]) <= 0) return -1;
+    return corner_verdict(t, region);
+  }
 
   // Whether occluder k reaches into the interior of a convex region. Most triangles lie wholly outside
   // one half-space or wholly inside every one: their corners decide, as clip_to_region would (an
@@ -369,10 +383,9 @@ ExactVisibility::VisibleRegion ExactVisibility::visible_region(const Point3& p_w
   thread_local ClipBuffers buffers;
   impl_->query(f.region, [&](int k) {
     const Triangle& t = impl_->triangles[k];
-    if (impl_->outward_solid[k] && dot(t.area_vector(), p - t.v[0]) <= 0) return false;  // a solid's face seen from behind
     // The corners decide for most triangles, as in shaft_is_clear: no shadow, or the whole triangle;
     // only the rest are clipped.
-    const int verdict = corner_verdict(t, f.region);
+    const int verdict = impl_->verdict(k, p, f.region);
     if (verdict < 0) return false;
     const std::span<const Point3> part =
         verdict > 0 ? std::span<const Point3>(t.v.data(), 3) : clip_to_region(t, f.region, buffers);
@@ -427,16 +440,16 @@ double ExactVisibility::VisibleRegion::factor_of(const Triangle& part) const {
 }
 
 double ExactVisibility::hidden_factor(const Point3& p, const Vector3& n, const Triangle& source) const {
-  return hidden_among(p, n, source, nullptr);
+  return hidden_among(p, n, source, nullptr, nullptr);
 }
 
 double ExactVisibility::hidden_factor(const Point3& p, const Vector3& n, const Triangle& source,
                                       std::span<const int> candidates) const {
-  return hidden_among(p, n, source, &candidates);
+  return hidden_among(p, n, source, &candidates, nullptr);
 }
 
 double ExactVisibility::hidden_among(const Point3& p_world, const Vector3& n, const Triangle& source_world,
-                                     const std::span<const int>* candidates) const {
+                                     const std::span<const int>* candidates, double* visible) const {
   const Vector3 shift = to_vector(impl_->centre);
   Frame f;
   if (!make_frame(p_world - shift, n, shifted(source_world, shift), f)) return 0;
@@ -447,10 +460,8 @@ double ExactVisibility::hidden_among(const Point3& p_world, const Vector3& n, co
   double hidden = 0;
   thread_local ClipBuffers buffers;
   auto visit = [&](int k) {
-    const Triangle& t = impl_->triangles[k];
-    if (impl_->outward_solid[k] && dot(t.area_vector(), f.p - t.v[0]) <= 0) return false;
-    if (corner_verdict(t, f.region) < 0) return false;
-    const std::span<const Point3> part = clip_to_region(t, cone_span, buffers);
+    if (impl_->verdict(k, f.p, f.region) < 0) return false;
+    const std::span<const Point3> part = clip_to_region(impl_->triangles[k], cone_span, buffers);
     if (part.size() < 3) return false;
     const double factor = std::abs(point_boundary_factor(f.p, n, part));
     if (!(factor > 0)) return false;
@@ -469,12 +480,15 @@ double ExactVisibility::hidden_among(const Point3& p_world, const Vector3& n, co
   if (group == kNoGroup) return 0;
   occluded_.fetch_add(1, std::memory_order_relaxed);
   if (!several) return hidden;
-  return std::max(0.0, point_triangle_factor(p_world, n, source_world) -
-                           visible_region(p_world, n, source_world, false).factor_of(source_world));
+  const double seen = visible_region(p_world, n, source_world, false).factor_of(source_world);
+  if (visible != nullptr) *visible = seen;
+  return std::max(0.0, point_triangle_factor(p_world, n, source_world) - seen);
 }
 
 double ExactVisibility::visible_factor(const Point3& p, const Vector3& n, const Triangle& source) const {
-  const double hidden = hidden_factor(p, n, source);
+  double visible = -1;  // set where the shadows had to be united
+  const double hidden = hidden_among(p, n, source, nullptr, &visible);
+  if (visible >= 0) return visible;
   const double whole = point_triangle_factor(p, n, source);
   return hidden > 0 ? std::max(0.0, whole - hidden) : whole;
 }
@@ -499,10 +513,8 @@ void ExactVisibility::shadow(const Point3& p_world, const Vector3& n, const Tria
   points.clear();
   int group = kNoGroup;
   for (const int k : candidates) {
-    const Triangle& t = impl_->triangles[k];
-    if (impl_->outward_solid[k] && dot(t.area_vector(), f.p - t.v[0]) <= 0) continue;  // seen from behind
-    if (corner_verdict(t, f.region) < 0) continue;
-    const std::span<const Point3> part = clip_to_region(t, cone_span, buffers);
+    if (impl_->verdict(k, f.p, f.region) < 0) continue;
+    const std::span<const Point3> part = clip_to_region(impl_->triangles[k], cone_span, buffers);
     if (part.size() < 3) continue;
     // A part of no area (an occluder touching the cone's boundary) hides nothing.
     Vector3 twice_area;
@@ -553,24 +565,8 @@ double ExactVisibility::Shadow::hidden_factor(const Triangle& part) const {
   if (in_shadow(c[0]) && in_shadow(c[1]) && in_shadow(c[2])) return std::numeric_limits<double>::infinity();
   // The shadow clipped to the part (Sutherland–Hodgman against its three edges), then the contour
   // sum over what is left, each vertex relative to p.
-  thread_local std::vector<Point2d> in, out;
-  in.assign(polygon_.begin(), polygon_.end());
-  for (int e = 0; e < 3 && in.size() >= 3; ++e) {
-    const Point2d& a = c[e];
-    const Point2d& b = c[(e + 1) % 3];
-    out.clear();
-    for (std::size_t i = 0, m = in.size(); i < m; ++i) {
-      const Point2d& u = in[i];
-      const Point2d& w = in[i + 1 < m ? i + 1 : 0];
-      const double su = cross2(a, b, u), sw = cross2(a, b, w);
-      if (su >= 0) out.push_back(u);
-      if ((su >= 0) != (sw >= 0)) {
-        const double t = su / (su - sw);
-        out.push_back({u[0] + (w[0] - u[0]) * t, u[1] + (w[1] - u[1]) * t});
-      }
-    }
-    in.swap(out);
-  }
+  thread_local Loop2d in, scratch;
+  clip_convex_into(polygon_, c, in, scratch);
   if (in.size() < 3) return 0;
   thread_local std::vector<Point3> loop;
   loop.clear();

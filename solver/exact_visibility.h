@@ -123,7 +123,10 @@ class ExactVisibility {
 
  private:
   VisibleRegion visible_region(const Point3& p, const Vector3& n, const Triangle& source, bool count) const;
-  double hidden_among(const Point3& p, const Vector3& n, const Triangle& source, const std::span<const int>* candidates) const;
+  // hidden_factor among `candidates` (null: the tree's); where the shadows had to be united, also the
+  // visible factor in `*visible` (if given).
+  double hidden_among(const Point3& p, const Vector3& n, const Triangle& source, const std::span<const int>* candidates,
+                      double* visible) const;
   struct Impl;
   std::unique_ptr<Impl> impl_;
   mutable std::atomic<std::uint64_t> occluded_{0}, booleans_{0};
