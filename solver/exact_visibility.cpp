@@ -108,24 +108,35 @@ double signed_area(const Loop2d& loop) {
 // along the clip's boundary, which cancel in a contour sum.
 // The same into `out`, with `scratch` for the passes between: no allocation once they have room.
 void clip_convex_into(std::span<const Point2d> subject, std::span<const Point2d> clip, Loop2d& out, Loop2d& scratch) {
-  out.assign(subject.begin(), subject.end());
-  for (std::size_t e = 0, m = clip.size(); e < m && out.size() >= 3; ++e) {
+  // Written by index into room made before each pass (with push_back and a modulo per vertex this
+  // clip was 7 % of a solve with solver.exact_visibility). A pass adds a vertex per crossing: one
+  // net for a convex subject, at most n for any.
+  if (out.size() < subject.size()) out.resize(subject.size());
+  std::copy(subject.begin(), subject.end(), out.begin());
+  std::size_t n = subject.size();
+  for (std::size_t e = 0, m = clip.size(); e < m && n >= 3; ++e) {
+    if (scratch.size() < 2 * n) scratch.resize(2 * n);
     const Point2d& a = clip[e];
-    const Point2d& b = clip[(e + 1) % m];
-    auto side = [&](const Point2d& q) { return (b[0] - a[0]) * (q[1] - a[1]) - (b[1] - a[1]) * (q[0] - a[0]); };
-    scratch.clear();
-    for (std::size_t i = 0, n = out.size(); i < n; ++i) {
-      const Point2d& u = out[i];
-      const Point2d& w = out[(i + 1) % n];
-      const double su = side(u), sw = side(w);
-      if (su >= 0) scratch.push_back(u);
+    const Point2d& b = clip[e + 1 < m ? e + 1 : 0];
+    const double ex = b[0] - a[0], ey = b[1] - a[1];
+    auto side = [&](const Point2d& q) { return ex * (q[1] - a[1]) - ey * (q[0] - a[0]); };
+    std::size_t k = 0;
+    const Point2d* u = &out[n - 1];  // the closing edge first: (out[n−1], out[0]) leads the loop
+    double su = side(*u);
+    for (std::size_t i = 0; i < n; ++i) {
+      const Point2d& w = out[i];
+      const double sw = side(w);
       if ((su >= 0) != (sw >= 0)) {
         const double t = su / (su - sw);
-        scratch.push_back({u[0] + (w[0] - u[0]) * t, u[1] + (w[1] - u[1]) * t});
+        scratch[k++] = {(*u)[0] + (w[0] - (*u)[0]) * t, (*u)[1] + (w[1] - (*u)[1]) * t};
       }
+      if (sw >= 0) scratch[k++] = w;
+      u = &w, su = sw;
     }
     out.swap(scratch);
+    n = k;
   }
+  out.resize(n);
 }
 
 Loop2d clip_convex(const Loop2d& subject, const Loop2d& clip) {
