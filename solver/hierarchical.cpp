@@ -830,11 +830,20 @@ void merge_rechecked(std::vector<L>& links, std::vector<L> fresh) {
 // balance scaled them up for every receiver.
 std::array<unsigned char, 3> source_point_of(const Element& S, const Element& R) {
   const TriangleRule rule = triangle_rule_degree5();
+  std::array<Point3, kMaxRuleSize> nodes;
+  std::array<double, kMaxRuleSize> factors;
+  for (int q = 0; q < rule.size; ++q) {
+    const auto& w = rule.nodes[q];
+    nodes[q] = barycentric(S.tri.v[0], S.tri.v[1], S.tri.v[2], w[0], w[1], w[2]);
+  }
+  // One batch (point_triangle_factors' lanes give point_triangle_factor's values): 7 calls one by
+  // one were 5 % of the cube room's solve with solver.exact_visibility.
+  point_triangle_factors({nodes.data(), static_cast<std::size_t>(rule.size)}, S.normal, R.tri,
+                         {factors.data(), static_cast<std::size_t>(rule.size)});
   double sum = 0, b1 = 0, b2 = 0;
   for (int q = 0; q < rule.size; ++q) {
     const auto& w = rule.nodes[q];
-    const double f = rule.weights[q] *
-                     point_triangle_factor(barycentric(S.tri.v[0], S.tri.v[1], S.tri.v[2], w[0], w[1], w[2]), S.normal, R.tri);
+    const double f = rule.weights[q] * factors[q];
     sum += f;
     b1 += f * w[1];
     b2 += f * w[2];
@@ -1518,17 +1527,18 @@ class LeafGather {
   // closes as well as its links' exact means (exchange_area: near and cut sources) agree with the
   // rule; across a cutting plane the kernel has a kink that a leaf-wide rule misses (1.7e-4 of the
   // row at the cube room's leaves cut by the cube's faces' planes), and on the pieces there is none.
-  void leaf_rule(const Element& L, const std::vector<Entry>& entries, std::vector<Point3>& nodes,
-                 std::vector<double>& weights) const {
+  // cut[k]: whether the plane of entries[k]'s source cuts the leaf (front_part), computed once by the caller.
+  void leaf_rule(const Element& L, const std::vector<Entry>& entries, const std::vector<char>& cut,
+                 std::vector<Point3>& nodes, std::vector<double>& weights) const {
     thread_local std::vector<Triangle> pieces, next;
     pieces.assign(1, L.tri);
     if (retrace_) {
       std::array<std::pair<Vector3, Point3>, kMaxCuttingPlanes> planes;  // unit normal, a point on it
       int count = 0;
       const double tolerance = 1e-6 * L.radius;  // planes closer than this at the leaf: one cut
-      for (const Entry& entry : entries) {
-        const Element& S = h_.elements[entry.source];
-        if (count == kMaxCuttingPlanes || !front_part(L.tri, S.tri.v[0], S.tri.area_vector()).cut) continue;
+      for (std::size_t k = 0; k < entries.size() && count < kMaxCuttingPlanes; ++k) {
+        if (!cut[k]) continue;
+        const Element& S = h_.elements[entries[k].source];
         const bool known = std::any_of(planes.begin(), planes.begin() + count, [&](const auto& plane) {
           return std::abs(dot(plane.first, S.normal)) > 1 - 1e-12 &&
                  std::abs(dot(plane.first, S.tri.v[0] - plane.second)) <= tolerance;
@@ -1566,28 +1576,44 @@ class LeafGather {
   void gather_leaf(int e, const std::vector<Entry>& entries, std::vector<Link>& row, LeafGatherStats& stats) const {
     const Element& L = h_.elements[e];
     thread_local std::vector<Point3> nodes;
-    thread_local std::vector<double> weights, f, hidden;
-    leaf_rule(L, entries, nodes, weights);
+    thread_local std::vector<double> weights, f, hidden, pending_f;
+    thread_local std::vector<char> usable, cut;
+    usable.resize(entries.size()), cut.resize(entries.size());
+    for (std::size_t k = 0; k < entries.size(); ++k) {
+      const Element& S = h_.elements[entries[k].source];
+      usable[k] = entries[k].source != e && !h_.is_enclosed(entries[k].source) &&
+                  any_in_front(L.tri, L.normal, S.tri) && any_in_front(S.tri, S.normal, L.tri);
+      cut[k] = usable[k] && front_part(L.tri, S.tri.v[0], S.tri.area_vector()).cut;
+    }
+    leaf_rule(L, entries, cut, nodes, weights);
     const std::size_t size = nodes.size();
     const std::span<const Point3> node_span(nodes);
     f.resize(size), hidden.resize(size);
     const std::size_t begin = row.size();
-    std::vector<int> pending;  // indices into row of links whose visibility is evaluated at the leaf
-    for (const Entry& entry : entries) {
+    // The links whose visibility is evaluated at the leaf: their index into row, and their row of
+    // pending_f, the factors at the rule's nodes where the pass below computed them (else −1).
+    std::vector<std::pair<int, int>> pending;
+    pending_f.clear();
+    for (std::size_t k = 0; k < entries.size(); ++k) {
+      if (!usable[k]) continue;
+      const Entry& entry = entries[k];
       const Element& S = h_.elements[entry.source];
-      if (entry.source == e || h_.is_enclosed(entry.source) || !any_in_front(L.tri, L.normal, S.tri) ||
-          !any_in_front(S.tri, S.normal, L.tri))
-        continue;
+      const bool proven = entry.verdict == kShaftClear || clear(e, entry.source);
+      const bool visible = proven || (!retrace_ && entry.verdict == kRaysUnanimous);
       // Where the leaf is small beside its distance to the source and wholly in front of the
       // source's plane, the kernel is smooth over it and the rule alone is exact to about 1e-6.
-      const bool near = distance_to_triangle(L.centre, S.tri) <= kLeafFarField * L.radius ||
-                        front_part(L.tri, S.tri.v[0], S.tri.area_vector()).cut;
+      const bool near = cut[k] || distance_to_triangle(L.centre, S.tri) <= kLeafFarField * L.radius;
       double F = 0;
+      int f_row = -1;
       if (near || !h_.has_children(entry.source)) {  // leaf pairs as the refiner's: A F the same both ways
         F = exchange_area(L.tri, S.tri, near_field_) / L.area;
       } else {
         point_triangle_factors(node_span, L.normal, S.tri, f);
         for (std::size_t q = 0; q < size; ++q) F += weights[q] * f[q];
+        if (!visible) {  // kept for the visibility pass below, which needs the same factors
+          f_row = static_cast<int>(pending_f.size() / size);
+          pending_f.insert(pending_f.end(), f.begin(), f.end());
+        }
       }
       if (!(F > 0)) continue;
       Link link;
@@ -1599,10 +1625,8 @@ class LeafGather {
       if (h_.has_children(entry.source) &&
           (near || distance(L.centre, S.centre) <= kLeafFarField * (L.radius + S.radius)))
         link.bin = source_point_of(S, L);
-      const bool proven = entry.verdict == kShaftClear || clear(e, entry.source);
-      const bool visible = proven || (!retrace_ && entry.verdict == kRaysUnanimous);
       link.bin[2] = proven ? kShaftClear : visible ? kRaysUnanimous : kVisibilityUnknown;
-      if (!visible) pending.push_back(static_cast<int>(row.size()));
+      if (!visible) pending.emplace_back(static_cast<int>(row.size()), f_row);
       row.push_back(link);
     }
     if (pending.empty()) {
@@ -1618,26 +1642,27 @@ class LeafGather {
     // each node serves all its sources (ExactVisibility::Shadow); otherwise each source takes
     // hidden_factor among them.
     stats.traced += pending.size();
-    std::sort(pending.begin(), pending.end(), [&](int a, int b) {
-      return std::pair{h_.elements[row[a].source].input, a} < std::pair{h_.elements[row[b].source].input, b};
+    std::sort(pending.begin(), pending.end(), [&](const auto& a, const auto& b) {
+      return std::pair{h_.elements[row[a.first].source].input, a.first} <
+             std::pair{h_.elements[row[b.first].source].input, b.first};
     });
     thread_local std::vector<int> candidates;
     thread_local std::vector<ExactVisibility::Shadow> shadows;
     if (shadows.size() < size) shadows.resize(size);
     for (std::size_t g = 0, next; g < pending.size(); g = next) {
-      const int input = h_.elements[row[pending[g]].source].input;
-      for (next = g + 1; next < pending.size() && h_.elements[row[pending[next]].source].input == input; ++next) {
+      const int input = h_.elements[row[pending[g].first].source].input;
+      for (next = g + 1; next < pending.size() && h_.elements[row[pending[next].first].source].input == input; ++next) {
       }
       const Triangle& T = inputs_[input];
       const std::array<Point3, 6> hull{L.tri.v[0], L.tri.v[1], L.tri.v[2], T.v[0], T.v[1], T.v[2]};
       exact_.shaft_occluders(hull, candidates);
       if (candidates.empty()) {
-        for (std::size_t l = g; l < next; ++l) row[pending[l]].bin[2] = kShaftClear;
+        for (std::size_t l = g; l < next; ++l) row[pending[l].first].bin[2] = kShaftClear;
         continue;
       }
       for (std::size_t q = 0; q < size; ++q) exact_.shadow(nodes[q], L.normal, T, candidates, shadows[q]);
       for (std::size_t l = g; l < next; ++l) {
-        Link& link = row[pending[l]];
+        Link& link = row[pending[l].first];
         const Triangle& source = h_.elements[link.source].tri;
         bool any = false;
         for (std::size_t q = 0; q < size; ++q) {
@@ -1648,11 +1673,13 @@ class LeafGather {
         }
         double v = 1;
         if (any) {
-          point_triangle_factors(node_span, L.normal, source, f);
+          const int f_row = pending[l].second;
+          if (f_row < 0) point_triangle_factors(node_span, L.normal, source, f);
+          const double* fq = f_row < 0 ? f.data() : pending_f.data() + static_cast<std::size_t>(f_row) * size;
           double seen = 0, whole = 0;
           for (std::size_t q = 0; q < size; ++q) {
-            seen += weights[q] * std::max(0.0, f[q] - hidden[q]);
-            whole += weights[q] * f[q];
+            seen += weights[q] * std::max(0.0, fq[q] - hidden[q]);
+            whole += weights[q] * fq[q];
           }
           v = whole > 0 ? std::clamp(seen / whole, 0.0, 1.0) : 0.0;
           ++stats.exact;
