@@ -507,7 +507,9 @@ double ExactVisibility::visible_factor(const Point3& p, const Vector3& n, const 
 void ExactVisibility::shadow(const Point3& p_world, const Vector3& n, const Triangle& carrier_world,
                              std::span<const int> candidates, Shadow& out) const {
   out.formed_ = true;
-  out.polygon_.clear();
+  out.vertices_.clear();
+  out.start_.assign(1, 0);
+  out.bounds_.clear();
   const Vector3 shift = to_vector(impl_->centre);
   Frame f;
   if (!make_frame(p_world - shift, n, shifted(carrier_world, shift), f)) return;  // no part of it is seen
@@ -519,10 +521,11 @@ void ExactVisibility::shadow(const Point3& p_world, const Vector3& n, const Tria
   out.e1_ = normalize(f.S.v[1] - s0);
   out.e2_ = cross(f.ns, out.e1_);
   out.to_origin_ = s0 - f.p;
-  thread_local std::vector<Point2d> points;
+  // The projected parts' corners, by group (at most kMaxShadowGroups of them).
+  thread_local std::array<std::vector<Point2d>, Shadow::kMaxGroups> points;
+  std::array<int, Shadow::kMaxGroups> group_of{};
+  int groups = 0;
   thread_local ClipBuffers buffers;
-  points.clear();
-  int group = kNoGroup;
   for (const int k : candidates) {
     if (impl_->verdict(k, f.p, f.region) < 0) continue;
     const std::span<const Point3> part = clip_to_region(impl_->triangles[k], cone_span, buffers);
@@ -536,27 +539,76 @@ void ExactVisibility::shadow(const Point3& p_world, const Vector3& n, const Tria
     }
     if (!(length(twice_area) > 1e-12 * extent)) continue;
     const int g = impl_->group(k);
-    if (group != kNoGroup && g != group) {
-      out.formed_ = false;  // parts of several groups may overlap: each source takes hidden_factor
-      return;
+    int slot = 0;
+    while (slot < groups && group_of[slot] != g) ++slot;
+    if (slot == groups) {
+      if (groups == Shadow::kMaxGroups) {
+        out.formed_ = false;  // too many to unite per source: each source takes hidden_factor
+        return;
+      }
+      group_of[groups++] = g;
+      points[slot].clear();
     }
-    group = g;
     for (const Point3& q : part) {
       const Point3 y = f.p + (q - f.p) * (f.h / (f.h - dot(f.ns, q - s0)));
-      points.push_back({dot(y - s0, out.e1_), dot(y - s0, out.e2_)});
+      points[slot].push_back({dot(y - s0, out.e1_), dot(y - s0, out.e2_)});
     }
   }
-  if (group == kNoGroup) return;
+  if (groups == 0) return;
   occluded_.fetch_add(1, std::memory_order_relaxed);
-  convex_hull(points, out.polygon_);
-  out.lo_ = {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
-  out.hi_ = {-out.lo_[0], -out.lo_[1]};
-  for (const Point2d& y : out.polygon_)
-    for (int a = 0; a < 2; ++a) out.lo_[a] = std::min(out.lo_[a], y[a]), out.hi_[a] = std::max(out.hi_[a], y[a]);
+  thread_local std::vector<Point2d> hull;
+  for (int slot = 0; slot < groups; ++slot) {
+    convex_hull(points[slot], hull);
+    // Vertices within 1e-9 of the shadow's size of the one before are dropped (see union_factor).
+    double size2 = 0;
+    for (const Point2d& y : hull) size2 = std::max(size2, (y[0] - hull[0][0]) * (y[0] - hull[0][0]) + (y[1] - hull[0][1]) * (y[1] - hull[0][1]));
+    const double close2 = 1e-18 * size2;
+    std::size_t m = 0;
+    for (const Point2d& y : hull) {
+      const Point2d& last = hull[m == 0 ? 0 : m - 1];
+      if (m == 0 || (y[0] - last[0]) * (y[0] - last[0]) + (y[1] - last[1]) * (y[1] - last[1]) > close2) hull[m++] = y;
+    }
+    while (m > 1 && (hull[m - 1][0] - hull[0][0]) * (hull[m - 1][0] - hull[0][0]) +
+                            (hull[m - 1][1] - hull[0][1]) * (hull[m - 1][1] - hull[0][1]) <= close2)
+      --m;
+    hull.resize(m);
+    if (hull.size() < 3) continue;
+    Shadow::Bounds b{{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()},
+                     {-std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()}};
+    for (const Point2d& y : hull)
+      for (int a = 0; a < 2; ++a) b.lo[a] = std::min(b.lo[a], y[a]), b.hi[a] = std::max(b.hi[a], y[a]);
+    out.vertices_.insert(out.vertices_.end(), hull.begin(), hull.end());
+    out.start_.push_back(static_cast<int>(out.vertices_.size()));
+    out.bounds_.push_back(b);
+  }
 }
 
+namespace {
+
+// The factor of the union of convex counter-clockwise loops, by inclusion–exclusion: Σ over subsets K of (−1)^(|K|+1) F(∩_K), an intersection that is
+// empty (area at most `negligible`) pruned with all its supersets. `level` holds a buffer for every
+// depth (at most loops.size() − 1), made before the first call.
+// The loops are given as `clipper(k)`, each clean of vertices so close that their edge's direction
+// is rounding (as a clipper, such an edge cuts the plane at a random angle).
+template <class Clipper, class Factor>
+double union_factor(std::size_t count, const Clipper& clipper, const Loop2d& current, std::size_t next, double sign,
+                    double negligible, std::vector<Loop2d>& level, std::size_t depth, Loop2d& scratch,
+                    const Factor& factor) {
+  double sum = sign * factor(current);
+  for (std::size_t k = next; k < count; ++k) {
+    Loop2d& part = level[depth];  // room for every depth made by the caller: `current` may be level[depth − 1]
+    clip_convex_into(current, clipper(k), part, scratch);
+    if (part.size() < 3 || std::abs(signed_area(part)) <= negligible) continue;
+    sum += union_factor(count, clipper, part, k + 1, -sign, negligible, level, depth + 1, scratch, factor);
+  }
+  return sum;
+}
+
+}  // namespace
+
 double ExactVisibility::Shadow::hidden_factor(const Triangle& part) const {
-  if (polygon_.empty()) return 0;
+  const std::size_t count = bounds_.size();
+  if (count == 0) return 0;
   std::array<Point2d, 3> c;
   Point2d lo = {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
   Point2d hi = {-lo[0], -lo[1]};
@@ -565,24 +617,48 @@ double ExactVisibility::Shadow::hidden_factor(const Triangle& part) const {
     c[k] = {dot(d, e1_), dot(d, e2_)};
     for (int a = 0; a < 2; ++a) lo[a] = std::min(lo[a], c[k][a]), hi[a] = std::max(hi[a], c[k][a]);
   }
-  if (lo[0] >= hi_[0] || hi[0] <= lo_[0] || lo[1] >= hi_[1] || hi[1] <= lo_[1]) return 0;
   if (cross2(c[0], c[1], c[2]) < 0) std::swap(c[1], c[2]);
-  // Wholly inside the shadow (convex: its corners are): all of it is hidden.
-  const auto in_shadow = [&](const Point2d& y) {
-    for (std::size_t i = 0, m = polygon_.size(); i < m; ++i)
-      if (cross2(polygon_[i], polygon_[i + 1 < m ? i + 1 : 0], y) < 0) return false;
-    return true;
+  // Each group's shadow clipped to the part (Sutherland–Hodgman against its three edges). A part
+  // wholly inside one (convex: its corners are) is all hidden.
+  thread_local std::array<Loop2d, kMaxGroups> clipped;
+  std::array<std::size_t, kMaxGroups> group{};  // of each clipped loop
+  thread_local Loop2d scratch;
+  std::size_t kept = 0;
+  for (std::size_t i = 0; i < count; ++i) {
+    const Bounds& b = bounds_[i];
+    if (lo[0] >= b.hi[0] || hi[0] <= b.lo[0] || lo[1] >= b.hi[1] || hi[1] <= b.lo[1]) continue;
+    const std::span<const Point2d> polygon(vertices_.data() + start_[i], vertices_.data() + start_[i + 1]);
+    const auto in_shadow = [&](const Point2d& y) {
+      for (std::size_t v = 0, m = polygon.size(); v < m; ++v)
+        if (cross2(polygon[v], polygon[v + 1 < m ? v + 1 : 0], y) < 0) return false;
+      return true;
+    };
+    if (in_shadow(c[0]) && in_shadow(c[1]) && in_shadow(c[2])) return std::numeric_limits<double>::infinity();
+    clip_convex_into(polygon, c, clipped[kept], scratch);
+    if (clipped[kept].size() >= 3) group[kept++] = i;
+  }
+  if (kept == 0) return 0;
+  // The contour sum over a loop, each vertex relative to p.
+  const auto factor = [&](const Loop2d& loop) {
+    thread_local std::vector<Point3> points;
+    points.clear();
+    for (const Point2d& y : loop) points.push_back(Point3{} + (to_origin_ + e1_ * y[0] + e2_ * y[1]));
+    return std::abs(point_boundary_factor(Point3{}, n_, points));
   };
-  if (in_shadow(c[0]) && in_shadow(c[1]) && in_shadow(c[2])) return std::numeric_limits<double>::infinity();
-  // The shadow clipped to the part (Sutherland–Hodgman against its three edges), then the contour
-  // sum over what is left, each vertex relative to p.
-  thread_local Loop2d in, scratch;
-  clip_convex_into(polygon_, c, in, scratch);
-  if (in.size() < 3) return 0;
-  thread_local std::vector<Point3> loop;
-  loop.clear();
-  for (const Point2d& y : in) loop.push_back(Point3{} + (to_origin_ + e1_ * y[0] + e2_ * y[1]));
-  return std::abs(point_boundary_factor(Point3{}, n_, loop));
+  if (kept == 1) return factor(clipped[0]);
+  // Shadows of several groups may overlap: the factor of their union within the part. The clipped
+  // loops are intersected with the other groups' shadows themselves, not with their clipped loops,
+  // whose vertices on the part's edges can be nearly coincident.
+  const double negligible = 1e-15 * std::abs(cross2(c[0], c[1], c[2]));
+  thread_local std::vector<Loop2d> level;
+  if (level.size() < kept) level.resize(kept);
+  const auto shadow_of = [&](std::size_t k) {
+    return std::span<const Point2d>(vertices_.data() + start_[group[k]], vertices_.data() + start_[group[k] + 1]);
+  };
+  double hidden = 0;
+  for (std::size_t i = 0; i < kept; ++i)
+    hidden += union_factor(kept, shadow_of, clipped[i], i + 1, 1.0, negligible, level, 0, scratch, factor);
+  return std::max(0.0, hidden);
 }
 
 namespace {

@@ -75,26 +75,36 @@ class ExactVisibility {
 
   // What occludes the plane of a triangle (`carrier`: an input triangle, say) from p, cast onto that
   // plane, so that one projection serves every source inside the carrier (the patches cut from it)
-  // seen from p. It is formed where what occludes, among `candidates` (occluder indices from
-  // shaft_occluders of a hull holding p and the carrier), is one triangle or front faces of one
-  // convex solid: the shadow is then one convex polygon, the projection of their parts inside the
-  // cone from p over the carrier. Otherwise it is not formed, and hidden_factor serves each source.
+  // seen from p. What occludes, among `candidates` (occluder indices from shaft_occluders of a hull
+  // holding p and the carrier), falls into groups: the front faces of one convex solid, or one
+  // triangle. Each group's shadow is one convex polygon, the projection of its parts inside the cone
+  // from p over the carrier; where several groups hide something, their shadows (which may overlap)
+  // are united within each source by inclusion–exclusion. Where more than kMaxGroups do, it is not
+  // formed, and hidden_factor serves each source.
   class Shadow {
    public:
+    // Groups whose shadows one Shadow unites; with more in front of the carrier it is not formed.
+    static constexpr int kMaxGroups = 8;
     bool formed() const { return formed_; }
-    // hidden_factor(p, n, part) for a triangle `part` inside the carrier; +∞ where the shadow covers
-    // all of it (the factor hidden is then point_triangle_factor(p, n, part), which the caller
+    // hidden_factor(p, n, part) for a triangle `part` inside the carrier; +∞ where one group's shadow
+    // covers all of it (the factor hidden is then point_triangle_factor(p, n, part), which the caller
     // usually has: no contour sum is spent on it).
     double hidden_factor(const Triangle& part) const;
 
    private:
     friend class ExactVisibility;
+    struct Bounds {
+      Point2d lo, hi;
+    };
     bool formed_ = false;
     Point3 origin_;               // the carrier's first corner, in metres
     Vector3 n_, e1_, e2_;         // the receiver's normal; the carrier's plane's axes
     Vector3 to_origin_;           // origin_ − p
-    std::vector<Point2d> polygon_;  // counter-clockwise in (e1_, e2_) about origin_; empty: nothing hidden
-    Point2d lo_{}, hi_{};         // its bounding box
+    // Per group that hides something: its shadow, a convex polygon counter-clockwise in (e1_, e2_)
+    // about origin_ (vertices_[start_[i], start_[i + 1])), and its bounding box.
+    std::vector<Point2d> vertices_;
+    std::vector<int> start_;
+    std::vector<Bounds> bounds_;
   };
   // Forms `out` (its storage reused) for p, normal n and the carrier.
   void shadow(const Point3& p, const Vector3& n, const Triangle& carrier, std::span<const int> candidates,

@@ -570,10 +570,12 @@ TEST(ExactVisibility, AConvexSolidsFrontFacesHideTheSumOfTheirFactors) {
 
 TEST(ExactVisibility, OneShadowServesEveryPartOfACarrier) {
   // A floor triangle (the carrier) and its 1:4 pieces of every level down to 1/256 of it, seen from
-  // points on a ceiling past a floating box, a tilted plate, or both: the shadow cast on the floor's
-  // plane from each point gives every piece the factor that hidden_factor finds for it alone, to
-  // 1e-12 of the piece's unoccluded factor (pieces wholly in the shadow: all of theirs); with both
-  // occluders (two groups whose shadows may overlap) it is not formed.
+  // points on a ceiling past a floating box, a tilted plate, both (two groups whose shadows overlap
+  // from some points: united within each piece), or a row of nine small plates (up to eight groups
+  // united; from some points all nine hide, more than a Shadow unites): the shadow cast on the floor's plane from each point gives every piece the
+  // factor that hidden_factor finds for it alone (by CGAL's difference or the inclusion–exclusion
+  // of each occluding triangle's shadow where several groups hide it), to 1e-12 of the piece's
+  // unoccluded factor (pieces wholly in one group's shadow: all of theirs).
   const Triangle carrier{{Point3{-1, -1, 0}, Point3{5, -0.5, 0}, Point3{1.5, 5, 0}}};
   std::vector<Triangle> pieces{carrier}, level{carrier};  // the carrier and its pieces of every level
   for (int depth = 0; depth < 4; ++depth) {
@@ -587,16 +589,23 @@ TEST(ExactVisibility, OneShadowServesEveryPartOfACarrier) {
   const Triangle plate{{Point3{2.5, 0.2, 1.2}, Point3{3.6, 0.6, 1.9}, Point3{2.7, 1.5, 1.4}}};
   std::vector<Triangle> both = cube;
   both.push_back(plate);
+  std::vector<Triangle> row;
+  for (int k = 0; k < 9; ++k) {
+    const double x = 0.2 + 0.35 * k;
+    row.push_back(Triangle{{Point3{x, 0.5, 1.5}, Point3{x + 0.3, 0.6, 1.5}, Point3{x + 0.1, 1.9, 1.6}}});
+  }
   struct Case {
     std::vector<Triangle> occluders;
-    bool formed;
+    bool formed;          // from every point; otherwise not from some, where more than kMaxGroups hide
+    int united_at_least;  // points from which hidden_factor had to unite several groups' shadows
   };
-  const Case cases[] = {{cube, true}, {{plate}, true}, {both, false}};
+  const Case cases[] = {{cube, true, 0}, {{plate}, true, 0}, {both, true, 20}, {row, false, 20}};
+  static_assert(ExactVisibility::Shadow::kMaxGroups < 9);
   for (const Case& c : cases) {
     std::vector<Triangle> scene = c.occluders;
     scene.push_back(carrier);  // the carrier itself: in its own plane, it hides nothing
     std::vector<int> solid(scene.size(), -1);
-    if (c.occluders.size() >= 12)
+    if (c.occluders.size() >= 12 && c.occluders.size() <= 13)
       for (int k = 0; k < 12; ++k) solid[k] = 0;
     const std::vector<char> convex(1, 1);
     const ExactVisibility ev(scene, solid, convex);
@@ -604,30 +613,34 @@ TEST(ExactVisibility, OneShadowServesEveryPartOfACarrier) {
     std::iota(candidates.begin(), candidates.end(), 0);
     std::mt19937 rng(3);
     std::uniform_real_distribution<double> u(0, 1);
-    int hidden_pieces = 0, covered_pieces = 0;
+    int hidden_pieces = 0, covered_pieces = 0, united = 0, not_formed = 0;
     ExactVisibility::Shadow shadow;
     for (int trial = 0; trial < 40; ++trial) {
       const Point3 p{-0.5 + 4 * u(rng), -0.5 + 4 * u(rng), 3};
       const Vector3 n = normalize(Vector3{0.8 * (u(rng) - 0.5), 0.8 * (u(rng) - 0.5), -1});
       ev.shadow(p, n, carrier, candidates, shadow);
-      if (!c.formed) {
-        if (shadow.formed()) continue;  // this point sees only one of the two in front of the floor
-        ++hidden_pieces;
+      if (!shadow.formed()) {
+        ++not_formed;
         continue;
       }
-      ASSERT_TRUE(shadow.formed());
+      const std::uint64_t booleans = ev.boolean_evaluations();
       for (const Triangle& piece : pieces) {
         const double expected = ev.hidden_factor(p, n, piece, candidates);
         const double unoccluded = point_triangle_factor(p, n, piece);
         double hidden = shadow.hidden_factor(piece);
-        if (std::isinf(hidden)) hidden = unoccluded, ++covered_pieces;  // wholly in the shadow
-        EXPECT_NEAR(hidden, expected, 1e-12 * unoccluded + 1e-15) << "trial " << trial;
+        if (std::isinf(hidden)) hidden = unoccluded, ++covered_pieces;  // wholly in one group's shadow
+        EXPECT_NEAR(hidden, expected, 1e-12 * unoccluded + 1e-15) << "case " << (&c - cases) << ", trial " << trial;
         hidden_pieces += expected > 0;
       }
+      united += ev.boolean_evaluations() > booleans;  // hidden_factor had to unite shadows
     }
-    EXPECT_GT(hidden_pieces, c.formed ? 200 : 10);
+    EXPECT_GT(hidden_pieces, 200);
+    EXPECT_GE(united, c.united_at_least);
     if (c.formed) {
+      EXPECT_EQ(not_formed, 0);
       EXPECT_GT(covered_pieces, 20);
+    } else {
+      EXPECT_GT(not_formed, 0);
     }
   }
 }
