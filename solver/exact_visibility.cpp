@@ -179,8 +179,34 @@ struct ExactVisibility::Impl {
   };
   Point3 centre;                   // occluders are stored relative to it (geo-referenced scenes)
   std::vector<Triangle> triangles;
-  std::vector<char> outward_solid;  // per triangle: a face of a closed solid facing out (see the constructor)
+  std::vector<char> outward_solid;  // per triangle: a face of a solid facing out (closed, or open: solid_holds)
   std::vector<int> convex_solid;    // per triangle: the convex solid it bounds, or −1
+  std::vector<int> solid_of;        // per triangle: the solid it bounds, or −1
+  // Per solid that is open (SolidCap): its cap's plane and its faces' distinct planes, relative to
+  // `centre`, within `tolerance`; empty for a closed one.
+  struct Open {
+    bool open = false;
+    Vector3 normal;
+    Point3 point;
+    std::vector<std::pair<Vector3, Point3>> faces;
+    double tolerance = 0;
+  };
+  std::vector<Open> open;
+  static constexpr std::size_t kMaxOpenFacePlanes = 32;
+
+  // Whether what holds for a closed solid holds for triangle k's solid between p and a source S: it
+  // is closed, or p and S lie on or behind its cap's plane and p is not inside it (on or in front
+  // of some face's plane). Otherwise its triangles are occluders like any other.
+  bool solid_holds(int k, const Point3& p, const Triangle& S) const {
+    const int id = solid_of[k];
+    if (id < 0) return false;
+    if (static_cast<std::size_t>(id) >= open.size() || !open[id].open) return true;
+    const Open& o = open[id];
+    const auto behind_cap = [&](const Point3& q) { return dot(o.normal, q - o.point) <= o.tolerance; };
+    if (!behind_cap(p) || !behind_cap(S.v[0]) || !behind_cap(S.v[1]) || !behind_cap(S.v[2])) return false;
+    return std::any_of(o.faces.begin(), o.faces.end(),
+                       [&](const auto& f) { return dot(f.first, p - f.second) >= -o.tolerance; });
+  }
   std::vector<int> order;
   std::vector<Node> nodes;
 
@@ -211,13 +237,16 @@ struct ExactVisibility::Impl {
 
   // The occluders whose parts in front of a point are seen in directions that do not overlap share a
   // group: the front faces of one convex solid. Any other occluder is a group of its own.
-  int group(int k) const { return convex_solid[k] >= 0 ? convex_solid[k] : -2 - k; }
+  // (For a source S seen from p: see solid_holds.)
+  int group(int k, const Point3& p, const Triangle& S) const {
+    return convex_solid[k] >= 0 && solid_holds(k, p, S) ? convex_solid[k] : -2 - k;
+  }
 
-  // What the corners of occluder k tell of it against the region that can occlude seen from p
-  // (corner_verdict), −1 also for a face of an outward solid that p sees from behind.
-  int verdict(int k, const Point3& p, std::span<const HalfSpace> region) const {
+  // What the corners of occluder k tell of it against the region that can occlude source S seen from
+  // p (corner_verdict), −1 also for a face of an outward solid that p sees from behind.
+  int verdict(int k, const Point3& p, const Triangle& S, std::span<const HalfSpace> region) const {
     const Triangle& t = triangles[k];
-    if (outward_solid[k] && dot(t.area_vector(), p - t.v[0]) <= 0) return -1;
+    if (outward_solid[k] && dot(t.area_vector(), p - t.v[0]) <= 0 && solid_holds(k, p, S)) return -1;
     return corner_verdict(t, region);
   }
 
@@ -257,7 +286,7 @@ struct ExactVisibility::Impl {
 };
 
 ExactVisibility::ExactVisibility(std::span<const Triangle> occluders, std::span<const int> solid,
-                                 std::span<const char> convex)
+                                 std::span<const char> convex, std::span<const SolidCap> caps)
     : impl_(std::make_unique<Impl>()) {
   Bounds3 all;
   for (const Triangle& t : occluders)
@@ -273,7 +302,27 @@ ExactVisibility::ExactVisibility(std::span<const Triangle> occluders, std::span<
     const int id = k < solid.size() ? solid[k] : -1;
     impl_->outward_solid.push_back(id >= 0);
     impl_->convex_solid.push_back(id >= 0 && static_cast<std::size_t>(id) < convex.size() && convex[id] ? id : -1);
+    impl_->solid_of.push_back(id);
     centroids.push_back(local.centroid());
+    if (id >= 0 && static_cast<std::size_t>(id) < caps.size() && caps[id].open) {
+      if (impl_->open.size() <= static_cast<std::size_t>(id)) impl_->open.resize(id + 1);
+      Impl::Open& o = impl_->open[id];
+      o.open = true;
+      o.normal = normalize(caps[id].normal);
+      o.point = caps[id].point - shift;
+      o.tolerance = std::max(o.tolerance, 1e-9 * std::sqrt(local.area()));
+      const Vector3 normal = normalize(local.area_vector());
+      const bool known = std::any_of(o.faces.begin(), o.faces.end(), [&](const auto& f) {
+        return dot(f.first, normal) > 1 - 1e-12 && std::abs(dot(f.first, local.v[0] - f.second)) <= o.tolerance;
+      });
+      if (!known) o.faces.emplace_back(normal, local.v[0]);
+    }
+  }
+  // An open solid with more face planes than the check per point should cost is no solid here.
+  for (std::size_t k = 0; k < impl_->triangles.size(); ++k) {
+    const int id = impl_->solid_of[k];
+    if (id >= 0 && static_cast<std::size_t>(id) < impl_->open.size() && impl_->open[id].faces.size() > Impl::kMaxOpenFacePlanes)
+      impl_->solid_of[k] = -1, impl_->outward_solid[k] = 0, impl_->convex_solid[k] = -1;
   }
   impl_->order.resize(impl_->triangles.size());
   std::iota(impl_->order.begin(), impl_->order.end(), 0);
@@ -396,7 +445,7 @@ ExactVisibility::VisibleRegion ExactVisibility::visible_region(const Point3& p_w
     const Triangle& t = impl_->triangles[k];
     // The corners decide for most triangles, as in shaft_is_clear: no shadow, or the whole triangle;
     // only the rest are clipped.
-    const int verdict = impl_->verdict(k, p, f.region);
+    const int verdict = impl_->verdict(k, p, f.S, f.region);
     if (verdict < 0) return false;
     const std::span<const Point3> part =
         verdict > 0 ? std::span<const Point3>(t.v.data(), 3) : clip_to_region(t, f.region, buffers);
@@ -471,12 +520,12 @@ double ExactVisibility::hidden_among(const Point3& p_world, const Vector3& n, co
   double hidden = 0;
   thread_local ClipBuffers buffers;
   auto visit = [&](int k) {
-    if (impl_->verdict(k, f.p, f.region) < 0) return false;
+    if (impl_->verdict(k, f.p, f.S, f.region) < 0) return false;
     const std::span<const Point3> part = clip_to_region(impl_->triangles[k], cone_span, buffers);
     if (part.size() < 3) return false;
     const double factor = std::abs(point_boundary_factor(f.p, n, part));
     if (!(factor > 0)) return false;
-    const int g = impl_->group(k);
+    const int g = impl_->group(k, f.p, f.S);
     if (group != kNoGroup && g != group) return several = true;
     group = g;
     hidden += factor;
@@ -527,7 +576,7 @@ void ExactVisibility::shadow(const Point3& p_world, const Vector3& n, const Tria
   int groups = 0;
   thread_local ClipBuffers buffers;
   for (const int k : candidates) {
-    if (impl_->verdict(k, f.p, f.region) < 0) continue;
+    if (impl_->verdict(k, f.p, f.S, f.region) < 0) continue;
     const std::span<const Point3> part = clip_to_region(impl_->triangles[k], cone_span, buffers);
     if (part.size() < 3) continue;
     // A part of no area (an occluder touching the cone's boundary) hides nothing.
@@ -538,7 +587,7 @@ void ExactVisibility::shadow(const Point3& p_world, const Vector3& n, const Tria
       if (i >= 1 && i + 1 < part.size()) twice_area = twice_area + cross(part[i] - part[0], part[i + 1] - part[0]);
     }
     if (!(length(twice_area) > 1e-12 * extent)) continue;
-    const int g = impl_->group(k);
+    const int g = impl_->group(k, f.p, f.S);
     int slot = 0;
     while (slot < groups && group_of[slot] != g) ++slot;
     if (slot == groups) {

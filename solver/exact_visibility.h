@@ -25,6 +25,14 @@
 
 namespace lambert {
 
+// Where a solid of ExactVisibility is open: the plane that closes it (unit outward normal, a point on
+// it). See OutwardSolids::cap (solver/solids.h).
+struct SolidCap {
+  bool open = false;
+  Vector3 normal;
+  Point3 point;
+};
+
 class ExactVisibility {
  public:
   // Occluders: the scene's triangles in metres (the input triangles, not the patches: fewer and larger
@@ -35,9 +43,11 @@ class ExactVisibility {
   // front faces do not, so it is not projected: a box seen from a point casts the shadows of its two
   // to six front triangles, not of all twelve. The front faces of a convex solid are seen in
   // directions that do not overlap, so the factor they hide is the sum of theirs, with no Boolean
-  // operation (visible_factor).
+  // operation (visible_factor). `caps` (per solid, or empty: all closed): an open solid counts as one
+  // only for a point and a source on or behind its cap's plane, the point not inside it; otherwise its
+  // faces are occluders like any other.
   explicit ExactVisibility(std::span<const Triangle> occluders, std::span<const int> solid = {},
-                           std::span<const char> convex = {});
+                           std::span<const char> convex = {}, std::span<const SolidCap> caps = {});
   ~ExactVisibility();
   ExactVisibility(const ExactVisibility&) = delete;
   ExactVisibility& operator=(const ExactVisibility&) = delete;

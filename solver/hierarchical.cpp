@@ -1936,7 +1936,7 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
   for (const Surface& s : scene.surfaces)
     for (std::size_t t = 0; t < s.mesh.triangles.size(); ++t) input_triangles.push_back(s.mesh.triangle(t));
   const OutwardSolids solids = outward_solids(scene.surfaces);
-  const ExactVisibility shafts(input_triangles, solids.solid, solids.convex);
+  const ExactVisibility shafts(input_triangles, solids.solid, solids.convex, solids.cap);
   std::vector<Vector3> occluder_normals(occluders.size());
   for (std::size_t k = 0; k < occluders.size(); ++k) occluder_normals[k] = h.elements[h.roots[k]].normal;
   sol.stats.time_visibility_s = seconds_since(t0);

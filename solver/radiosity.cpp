@@ -885,7 +885,7 @@ Solution solve_dense(const Scene& scene, const SolveControl& control, const std:
   // Exact partial visibility works on the input triangles (fewer, larger occluders than the patches),
   // with the solids they bound (a convex solid's front faces hide the sum of their factors).
   const OutwardSolids solids = scene.probes.empty() ? OutwardSolids{} : outward_solids(scene.surfaces);
-  const ExactVisibility exact(scene.probes.empty() ? std::vector<Triangle>{} : input_triangles, solids.solid, solids.convex);
+  const ExactVisibility exact(scene.probes.empty() ? std::vector<Triangle>{} : input_triangles, solids.solid, solids.convex, solids.cap);
   std::vector<char> radiates(N, 0);
   for (std::size_t j = 0; j < N; ++j) {
     const double* b = &sol.radiosity[j * W];

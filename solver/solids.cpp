@@ -21,6 +21,12 @@ struct Components {
     bool consistent = true;       // every shared edge runs opposite ways in its two triangles
   };
   std::vector<Sums> sums;      // per component (indexed as `component`)
+  Point3 origin;               // of the volumes
+  // Edges with one triangle: that triangle and the edge's ends (welded positions).
+  struct BoundaryEdge {
+    int triangle, a, b;
+  };
+  std::vector<BoundaryEdge> boundary;
   bool closed(int c) const {
     const Sums& s = sums[c];
     return s.area > 0 && length(s.vector_area) <= 1e-6 * s.area && std::abs(s.volume) > 1e-6 * s.area * std::sqrt(s.area);
@@ -61,9 +67,11 @@ Components components(const std::vector<Surface>& surfaces) {
       parent[root(t)] = root(it->second.triangle);
       if (++it->second.count > 2 || it->second.forward == (a < b)) inconsistent[t] = 1;
     }
+  for (const auto& [ends, use] : edge)
+    if (use.count == 1) out.boundary.push_back({use.triangle, ends.first, ends.second});
   out.component.resize(all.size());
   out.sums.resize(all.size());
-  const Point3 o = all.empty() ? Point3{} : all[0].v[0];
+  const Point3 o = out.origin = all.empty() ? Point3{} : all[0].v[0];
   for (std::size_t t = 0; t < all.size(); ++t) {
     const int c = out.component[t] = root(static_cast<int>(t));
     Components::Sums& s = out.sums[c];
@@ -91,12 +99,49 @@ OutwardSolids outward_solids(const std::vector<Surface>& surfaces) {
   const Components c = components(surfaces);
   OutwardSolids out;
   out.solid.assign(c.component.size(), -1);
-  std::vector<int> index(c.component.size(), -1);  // component → solid
-  std::vector<std::vector<int>> faces;              // per solid: its triangles
-  for (std::size_t t = 0; t < c.component.size(); ++t) {
+  const std::size_t T = c.component.size();
+  // Open components that a plane would close (see OutwardSolids::cap): every edge with one
+  // triangle lies in one plane, whose outward normal is minus the component's vector area.
+  std::vector<std::vector<int>> boundary(T);  // per component: its boundary edges' ends
+  for (const auto& e : c.boundary) {
+    auto& ends = boundary[c.component[e.triangle]];
+    ends.push_back(e.a), ends.push_back(e.b);
+  }
+  auto position = [&](int v) { return c.triangles[v / 3].v[v % 3]; };
+  std::vector<OutwardSolids::Cap> cap_of(T);
+  auto capped = [&](int k) {
+    const Components::Sums& s = c.sums[k];
+    if (boundary[k].empty() || !s.consistent || !(s.area > 0)) return false;
+    const double cap_area = length(s.vector_area);
+    if (!(cap_area > 1e-6 * s.area)) return false;
+    const Vector3 m = s.vector_area / -cap_area;
+    const Point3 q0 = position(boundary[k][0]);
+    Bounds3 box;
+    for (int v : boundary[k]) box.add(position(v));
+    const double tolerance = 1e-9 * std::max(length(box.diagonal()), std::sqrt(s.area));
+    for (int v : boundary[k])
+      if (std::abs(dot(m, position(v) - q0)) > tolerance) return false;
+    // The volume the faces and the cap enclose: the cap's part is (q0 − o) · A_cap / 3.
+    const double volume = s.volume + dot(q0 - c.origin, m * cap_area) / 3;
+    const double area = s.area + cap_area;
+    if (!(volume > 1e-6 * area * std::sqrt(area))) return false;
+    cap_of[k] = {true, m, q0};
+    return true;
+  };
+  std::vector<int> index(T, -1);       // component → solid
+  std::vector<char> decided(T, 0), is_solid(T, 0);
+  std::vector<std::vector<int>> faces;  // per solid: its triangles
+  for (std::size_t t = 0; t < T; ++t) {
     const int k = c.component[t];
-    if (!(c.closed(k) && c.sums[k].consistent && c.sums[k].volume > 0)) continue;
-    if (index[k] < 0) index[k] = static_cast<int>(faces.size()), faces.emplace_back();
+    if (!decided[k]) {
+      decided[k] = 1;
+      is_solid[k] = (c.closed(k) && c.sums[k].consistent && c.sums[k].volume > 0) || capped(k);
+    }
+    if (!is_solid[k]) continue;
+    if (index[k] < 0) {
+      index[k] = static_cast<int>(faces.size()), faces.emplace_back();
+      out.cap.push_back(cap_of[k]);
+    }
     out.solid[t] = index[k];
     faces[index[k]].push_back(static_cast<int>(t));
   }
@@ -108,22 +153,37 @@ OutwardSolids outward_solids(const std::vector<Surface>& surfaces) {
       for (int k = 0; k < 3; ++k) corners.push_back(c.corner[3 * t + k]);
     std::sort(corners.begin(), corners.end());
     corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
-    const double checks = static_cast<double>(corners.size()) * static_cast<double>(faces[s].size());
+    const double checks = static_cast<double>(corners.size()) * static_cast<double>(faces[s].size() + 1);
     if (checks > budget) continue;
     budget -= checks;
     std::vector<Point3> points;  // one per welded position (corner 3 t + k has position 3 t + k too)
     Bounds3 box;
     for (int v : corners)
-      if (v >= 0) box.add(points.emplace_back(c.triangles[v / 3].v[v % 3]));
+      if (v >= 0) box.add(points.emplace_back(position(v)));
     const double tolerance = 1e-9 * length(box.diagonal());
+    const auto behind = [&](const Vector3& normal, const Point3& on) {
+      return std::all_of(points.begin(), points.end(), [&](const Point3& q) { return dot(normal, q - on) <= tolerance; });
+    };
     const auto convex_at = [&](int t) {
       const Triangle& f = c.triangles[t];
-      const Vector3 normal = normalize(f.area_vector());
-      return std::all_of(points.begin(), points.end(), [&](const Point3& q) { return dot(normal, q - f.v[0]) <= tolerance; });
+      return behind(normalize(f.area_vector()), f.v[0]);
     };
-    out.convex[s] = std::all_of(faces[s].begin(), faces[s].end(), convex_at);
+    const OutwardSolids::Cap& cap = out.cap[s];
+    out.convex[s] = std::all_of(faces[s].begin(), faces[s].end(), convex_at) && (!cap.open || behind(cap.normal, cap.point));
   }
-  return out;
+  // An open component is kept only where convex: ExactVisibility relies on the cap for nothing else.
+  std::vector<int> renumber(faces.size(), -1);
+  OutwardSolids kept;
+  kept.solid.assign(T, -1);
+  for (std::size_t s = 0; s < faces.size(); ++s) {
+    if (out.cap[s].open && !out.convex[s]) continue;
+    renumber[s] = static_cast<int>(kept.convex.size());
+    kept.convex.push_back(out.convex[s]);
+    kept.cap.push_back(out.cap[s]);
+  }
+  for (std::size_t t = 0; t < T; ++t)
+    if (out.solid[t] >= 0) kept.solid[t] = renumber[out.solid[t]];
+  return kept;
 }
 
 }  // namespace lambert

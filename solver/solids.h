@@ -7,6 +7,7 @@
 
 #include <vector>
 
+#include "solver/exact_visibility.h"
 #include "solver/scene.h"
 
 namespace lambert {
@@ -30,6 +31,13 @@ struct OutwardSolids {
   // 0.1 s); a solid beyond that budget is not checked (false).
   std::vector<char> convex;
   static constexpr double kMaxConvexityChecks = 5e7;
+  // Per solid: where it is open, the plane that closes it. A connected, consistently oriented surface
+  // whose edges with one triangle all lie in one plane (a building's walls and roof, standing on the
+  // ground with no floor of their own) and that is convex with that plane as a face is such a solid
+  // (closed ones have no cap). What holds for a closed solid holds for it only between points on or
+  // behind the cap's plane (never through the missing face), seen from outside it (ExactVisibility).
+  using Cap = SolidCap;
+  std::vector<Cap> cap;
 };
 OutwardSolids outward_solids(const std::vector<Surface>& surfaces);
 

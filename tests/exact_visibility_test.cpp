@@ -445,9 +445,19 @@ TEST(Solids, OnlyTheFacesOfClosedOutwardSolidsAreFlagged) {
   std::vector<std::vector<Triangle>> faces;
   for (std::size_t t = 0; t < cube.size(); t += 2) faces.push_back({cube[t], cube[t + 1]});
   EXPECT_TRUE(all_of(outward_flags(faces), 1));
-  // Not closed: a face missing; not consistent: a face flipped (its edges run the same way as its
-  // neighbours'); a sheet's two faces back to back (closed, but enclosing no volume).
-  EXPECT_TRUE(all_of(outward_flags({std::vector<Triangle>(cube.begin() + 2, cube.end())}), 0));
+  // Not closed, nor closed by one plane: triangles of two faces missing; not consistent: a face
+  // flipped (its edges run the same way as its neighbours'); a sheet's two faces back to back
+  // (closed, but enclosing no volume).
+  std::vector<Triangle> two_missing;
+  bool floor_taken = false, wall_taken = false;
+  for (const Triangle& t : cube) {
+    const Vector3 a = t.area_vector();
+    if (a.z < 0 && !floor_taken) floor_taken = true;
+    else if (a.x > 0 && !wall_taken) wall_taken = true;
+    else two_missing.push_back(t);
+  }
+  ASSERT_EQ(two_missing.size(), 10u);
+  EXPECT_TRUE(all_of(outward_flags({two_missing}), 0));
   auto flipped = cube;
   for (int t = 0; t < 2; ++t) std::swap(flipped[t].v[1], flipped[t].v[2]);
   EXPECT_TRUE(all_of(outward_flags({flipped}), 0));
@@ -458,6 +468,89 @@ TEST(Solids, OnlyTheFacesOfClosedOutwardSolidsAreFlagged) {
   EXPECT_TRUE(all_of(std::vector<char>(mixed.begin(), mixed.begin() + 12), 0));
   EXPECT_TRUE(all_of(std::vector<char>(mixed.begin() + 12, mixed.begin() + 24), 1));
   EXPECT_TRUE(all_of(std::vector<char>(mixed.begin() + 24, mixed.end()), 0));
+}
+
+TEST(Solids, AConvexSurfaceThatOnePlaneClosesIsAnOpenSolid) {
+  // A box with no floor (a building on the ground): its walls and roof are one convex solid, open,
+  // whose cap is the floor's plane facing down; with one triangle missing too (the floor's plane
+  // and a wall's: no one plane closes it), or made non-convex (its roof dimpled), none. Closed solids
+  // have no cap.
+  auto open_box = [](const Point3& lo, const Point3& hi) {
+    std::vector<Triangle> walls = test::box(lo, hi, false);
+    walls.erase(std::remove_if(walls.begin(), walls.end(), [](const Triangle& t) { return t.area_vector().z < 0; }),
+                walls.end());
+    return walls;
+  };
+  const auto walls = open_box({0, 0, 0}, {8, 8, 20});
+  ASSERT_EQ(walls.size(), 10u);
+  const OutwardSolids building = solids_of({walls});
+  ASSERT_EQ(building.convex.size(), 1u);
+  EXPECT_TRUE(building.convex[0]);
+  EXPECT_TRUE(all_of(outward_flags({walls}), 1));
+  ASSERT_EQ(building.cap.size(), 1u);
+  EXPECT_TRUE(building.cap[0].open);
+  EXPECT_NEAR(building.cap[0].normal.z, -1, 1e-12);
+  EXPECT_NEAR(building.cap[0].point.z, 0, 1e-12);
+  EXPECT_TRUE(all_of(outward_flags({std::vector<Triangle>(walls.begin() + 1, walls.end())}), 0));
+  std::vector<Triangle> dimpled = dimpled_cube();
+  dimpled.erase(std::remove_if(dimpled.begin(), dimpled.end(), [](const Triangle& t) { return t.area_vector().z < 0 && t.v[0].z == 0; }),
+                dimpled.end());
+  EXPECT_TRUE(all_of(outward_flags({dimpled}), 0));
+  const OutwardSolids cube = solids_of({test::box({0, 0, 0}, {1, 1, 1}, false)});
+  ASSERT_EQ(cube.cap.size(), 1u);
+  EXPECT_FALSE(cube.cap[0].open);
+}
+
+TEST(ExactVisibility, AnOpenSolidHidesAsOneOnlyBehindItsCap) {
+  // Three buildings with no floors (open solids capped by the ground's plane), and random points and
+  // sources on or above the ground, some on the buildings' own walls; also a box with no roof whose
+  // cap faces up, seen from points inside it and above it (looking in through the opening). The
+  // faces seen from behind are skipped and the front faces summed only where that holds (the point
+  // and the source behind the cap, the point outside the solid): the visible factor is the same as
+  // projecting every triangle, to 1e-11 of the unoccluded factor.
+  auto open_box = [](const Point3& lo, const Point3& hi, bool roofless) {
+    std::vector<Triangle> walls = test::box(lo, hi, false);
+    walls.erase(std::remove_if(walls.begin(), walls.end(),
+                               [&](const Triangle& t) { return roofless ? t.area_vector().z > 0 : t.area_vector().z < 0; }),
+                walls.end());
+    return walls;
+  };
+  struct Case {
+    const char* name;
+    std::vector<std::vector<Triangle>> solids;
+    double z_lo, z_hi;  // where points and sources are drawn
+  };
+  const Case cases[] = {
+      {"buildings", {open_box({0, 0, 0}, {1, 1, 2.5}, false), open_box({1.6, 0.2, 0}, {2.4, 1.1, 1.5}, false),
+                     open_box({0.4, 1.7, 0}, {1.5, 2.6, 3.0}, false)}, 0, 3.5},
+      {"roofless box", {open_box({0.5, 0.5, 0.5}, {2.5, 2.5, 2.0}, true)}, 0.6, 3.5}};
+  for (const Case& c : cases) {
+    std::vector<Triangle> occluders;
+    for (const auto& s : c.solids) occluders.insert(occluders.end(), s.begin(), s.end());
+    const OutwardSolids solids = solids_of(c.solids);
+    ASSERT_EQ(solids.convex.size(), c.solids.size()) << c.name;
+    const ExactVisibility all(occluders), solid(occluders, solids.solid, solids.convex, solids.cap);
+    std::mt19937 rng(17);
+    std::uniform_real_distribution<double> u(0, 1);
+    int hidden = 0, compared = 0;
+    for (int trial = 0; trial < 600; ++trial) {
+      const Point3 p{3 * u(rng), 3 * u(rng), trial % 4 == 0 ? c.z_lo : c.z_lo + (c.z_hi - c.z_lo) * u(rng)};
+      const Vector3 n = normalize(Vector3{u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5});
+      const Point3 q{3 * u(rng), 3 * u(rng), c.z_lo + (c.z_hi - c.z_lo) * u(rng)};
+      const Triangle source{{q, q + Vector3{0.2 + 0.5 * u(rng), 0.3 * u(rng), 0.3 * (u(rng) - 0.5)},
+                             q + Vector3{0.3 * u(rng), 0.2 + 0.5 * u(rng), 0.3 * (u(rng) - 0.5)}}};
+      for (const Triangle& s : {source, Triangle{{source.v[0], source.v[2], source.v[1]}}}) {
+        const double unoccluded = point_triangle_factor(p, n, s);
+        if (!(unoccluded > 0)) continue;
+        const double a = all.visible_factor(p, n, s), b = solid.visible_factor(p, n, s);
+        EXPECT_NEAR(a, b, 1e-11 * unoccluded) << c.name << ", trial " << trial;
+        ++compared;
+        hidden += a < 0.99 * unoccluded;
+      }
+    }
+    EXPECT_GT(compared, 300) << c.name;
+    EXPECT_GT(hidden, 50) << c.name;
+  }
 }
 
 TEST(Solids, ConvexityIsTheSolidsNotItsFaces) {
