@@ -102,30 +102,33 @@ OutwardSolids outward_solids(const std::vector<Surface>& surfaces) {
   const std::size_t T = c.component.size();
   // Open components that a plane would close (see OutwardSolids::cap): every edge with one
   // triangle lies in one plane, whose outward normal is minus the component's vector area.
-  std::vector<std::vector<int>> boundary(T);  // per component: its boundary edges' ends
+  // Per component with edges of one triangle: their ends (most components have none: sparse).
+  std::map<int, std::vector<int>> boundary;
   for (const auto& e : c.boundary) {
     auto& ends = boundary[c.component[e.triangle]];
     ends.push_back(e.a), ends.push_back(e.b);
   }
   auto position = [&](int v) { return c.triangles[v / 3].v[v % 3]; };
-  std::vector<OutwardSolids::Cap> cap_of(T);
+  OutwardSolids::Cap cap_found;  // capped(k)'s, where it returns true
   auto capped = [&](int k) {
     const Components::Sums& s = c.sums[k];
-    if (boundary[k].empty() || !s.consistent || !(s.area > 0)) return false;
+    const auto it = boundary.find(k);
+    if (it == boundary.end() || !s.consistent || !(s.area > 0)) return false;
+    const std::vector<int>& ends = it->second;
     const double cap_area = length(s.vector_area);
     if (!(cap_area > 1e-6 * s.area)) return false;
     const Vector3 m = s.vector_area / -cap_area;
-    const Point3 q0 = position(boundary[k][0]);
+    const Point3 q0 = position(ends[0]);
     Bounds3 box;
-    for (int v : boundary[k]) box.add(position(v));
+    for (int v : ends) box.add(position(v));
     const double tolerance = 1e-9 * std::max(length(box.diagonal()), std::sqrt(s.area));
-    for (int v : boundary[k])
+    for (int v : ends)
       if (std::abs(dot(m, position(v) - q0)) > tolerance) return false;
     // The volume the faces and the cap enclose: the cap's part is (q0 − o) · A_cap / 3.
     const double volume = s.volume + dot(q0 - c.origin, m * cap_area) / 3;
     const double area = s.area + cap_area;
     if (!(volume > 1e-6 * area * std::sqrt(area))) return false;
-    cap_of[k] = {true, m, q0};
+    cap_found = {true, m, q0};
     return true;
   };
   std::vector<int> index(T, -1);       // component → solid
@@ -135,13 +138,14 @@ OutwardSolids outward_solids(const std::vector<Surface>& surfaces) {
     const int k = c.component[t];
     if (!decided[k]) {
       decided[k] = 1;
+      cap_found = {};
       is_solid[k] = (c.closed(k) && c.sums[k].consistent && c.sums[k].volume > 0) || capped(k);
+      if (is_solid[k]) {
+        index[k] = static_cast<int>(faces.size()), faces.emplace_back();
+        out.cap.push_back(cap_found);
+      }
     }
     if (!is_solid[k]) continue;
-    if (index[k] < 0) {
-      index[k] = static_cast<int>(faces.size()), faces.emplace_back();
-      out.cap.push_back(cap_of[k]);
-    }
     out.solid[t] = index[k];
     faces[index[k]].push_back(static_cast<int>(t));
   }

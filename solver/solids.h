@@ -1,4 +1,4 @@
-// Closed surfaces: which triangles bound a solid. The triangles of all surfaces are joined into
+// Closed surfaces (and convex ones that one plane closes): which triangles bound a solid. The triangles of all surfaces are joined into
 // components across edges whose ends coincide (a box given as six surfaces, one per face, is one
 // component); a component is closed when its vector area Σ A n vanishes (as it does for any closed
 // surface, T-junctions or not) and it encloses a volume (which a sheet's two faces back to back do
