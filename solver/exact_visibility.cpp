@@ -20,8 +20,9 @@
 // faces of one convex solid), no union is needed. The factor they hide is the sum of the factors of
 // their parts inside the exact cone from p over S's front (hidden_factor: the contour sum of a
 // polygon depends only on the directions it covers, so the part need not be projected). For many
-// sources in one plane (Shadow), the parts are projected onto the plane once and their convex hull,
-// which is then their union, is clipped to each source.
+// sources in one plane (Shadow), the parts are projected onto the plane once, group by group; each
+// group's convex hull is then its union, and the hulls of the groups that reach a source are clipped
+// to it and united there by inclusion–exclusion.
 #include "solver/exact_visibility.h"
 
 #include <algorithm>
@@ -145,18 +146,21 @@ Loop2d clip_convex(const Loop2d& subject, const Loop2d& clip) {
   return out;
 }
 
-// S minus the union of a few convex shadows as signed convex loops, by inclusion–exclusion:
-// ∫_{S∖∪A_k} = Σ over subsets K of (−1)^|K| ∫_{S∩A_K}. Each intersection is convex (clipped in
-// doubles); negative terms are stored clockwise, so the contour sum subtracts them. Subsets whose
-// intersection is empty (area below `negligible`) are pruned with all their supersets.
-void inclusion_exclusion(const Loop2d& current, std::size_t next, bool positive, std::span<const Loop2d> shadows,
-                         double negligible, std::vector<Loop2d>& loops) {
-  loops.push_back(current);
-  if (!positive) std::reverse(loops.back().begin(), loops.back().end());
-  for (std::size_t k = next; k < shadows.size(); ++k) {
-    const Loop2d part = clip_convex(current, shadows[k]);
+// Inclusion–exclusion over convex counter-clockwise loops: visit(current, sign), then for every
+// clipper k ≥ next whose intersection with `current` is not empty (area above `negligible`), the same
+// for that intersection with the opposite sign and clippers after k; an empty intersection prunes
+// all its supersets. From a loop S with sign +1 the terms are S ∩ A_K with sign (−1)^|K|, whose sum
+// is S ∖ ∪A_k. `level` has a buffer for every depth (count of them), made by the caller.
+template <class Clipper, class Visit>
+void inclusion_exclusion(std::size_t count, const Clipper& clipper, const Loop2d& current, std::size_t next,
+                         double sign, double negligible, std::vector<Loop2d>& level, std::size_t depth,
+                         Loop2d& scratch, const Visit& visit) {
+  visit(current, sign);
+  for (std::size_t k = next; k < count; ++k) {
+    Loop2d& part = level[depth];  // `current` is level[depth − 1] (or the caller's)
+    clip_convex_into(current, clipper(k), part, scratch);
     if (part.size() < 3 || std::abs(signed_area(part)) <= negligible) continue;
-    inclusion_exclusion(part, k + 1, !positive, shadows, negligible, loops);
+    inclusion_exclusion(count, clipper, part, k + 1, -sign, negligible, level, depth + 1, scratch, visit);
   }
 }
 
@@ -473,7 +477,15 @@ ExactVisibility::VisibleRegion ExactVisibility::visible_region(const Point3& p_w
   if (shadows.size() <= static_cast<std::size_t>(inclusion_exclusion_limit_)) {
     for (Loop2d& shadow : shadows)
       if (signed_area(shadow) < 0) std::reverse(shadow.begin(), shadow.end());
-    inclusion_exclusion(source, 0, true, shadows, 1e-15 * std::abs(signed_area(source)), out.loops_);
+    // S ∖ ∪A_k as signed convex loops: negative terms stored clockwise, so the contour sum subtracts them.
+    std::vector<Loop2d> level(shadows.size());
+    Loop2d scratch;
+    inclusion_exclusion(
+        shadows.size(), [&](std::size_t k) { return std::span<const Point2d>(shadows[k]); }, source, 0, 1.0,
+        1e-15 * std::abs(signed_area(source)), level, 0, scratch, [&](const Loop2d& loop, double sign) {
+          out.loops_.push_back(loop);
+          if (sign < 0) std::reverse(out.loops_.back().begin(), out.loops_.back().end());
+        });
     return out;
   }
   out.loops_ = convex_difference(source, shadows);
@@ -570,7 +582,7 @@ void ExactVisibility::shadow(const Point3& p_world, const Vector3& n, const Tria
   out.e1_ = normalize(f.S.v[1] - s0);
   out.e2_ = cross(f.ns, out.e1_);
   out.to_origin_ = s0 - f.p;
-  // The projected parts' corners, by group (at most kMaxShadowGroups of them).
+  // The projected parts' corners, by group (at most Shadow::kMaxGroups of them).
   thread_local std::array<std::vector<Point2d>, Shadow::kMaxGroups> points;
   std::array<int, Shadow::kMaxGroups> group_of{};
   int groups = 0;
@@ -608,18 +620,17 @@ void ExactVisibility::shadow(const Point3& p_world, const Vector3& n, const Tria
   thread_local std::vector<Point2d> hull;
   for (int slot = 0; slot < groups; ++slot) {
     convex_hull(points[slot], hull);
-    // Vertices within 1e-9 of the shadow's size of the one before are dropped (see union_factor).
+    // Vertices within 1e-9 of the shadow's size of the one kept before are dropped: as a clipper (in
+    // hidden_factor's inclusion–exclusion) an edge whose direction is rounding cuts at a random angle.
+    const auto distance2 = [](const Point2d& a, const Point2d& b) {
+      return (a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]);
+    };
     double size2 = 0;
-    for (const Point2d& y : hull) size2 = std::max(size2, (y[0] - hull[0][0]) * (y[0] - hull[0][0]) + (y[1] - hull[0][1]) * (y[1] - hull[0][1]));
-    const double close2 = 1e-18 * size2;
+    for (const Point2d& y : hull) size2 = std::max(size2, distance2(y, hull[0]));
     std::size_t m = 0;
-    for (const Point2d& y : hull) {
-      const Point2d& last = hull[m == 0 ? 0 : m - 1];
-      if (m == 0 || (y[0] - last[0]) * (y[0] - last[0]) + (y[1] - last[1]) * (y[1] - last[1]) > close2) hull[m++] = y;
-    }
-    while (m > 1 && (hull[m - 1][0] - hull[0][0]) * (hull[m - 1][0] - hull[0][0]) +
-                            (hull[m - 1][1] - hull[0][1]) * (hull[m - 1][1] - hull[0][1]) <= close2)
-      --m;
+    for (const Point2d& y : hull)
+      if (m == 0 || distance2(y, hull[m - 1]) > 1e-18 * size2) hull[m++] = y;
+    while (m > 1 && distance2(hull[m - 1], hull[0]) <= 1e-18 * size2) --m;
     hull.resize(m);
     if (hull.size() < 3) continue;
     Shadow::Bounds b{{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()},
@@ -631,29 +642,6 @@ void ExactVisibility::shadow(const Point3& p_world, const Vector3& n, const Tria
     out.bounds_.push_back(b);
   }
 }
-
-namespace {
-
-// The factor of the union of convex counter-clockwise loops, by inclusion–exclusion: Σ over subsets K of (−1)^(|K|+1) F(∩_K), an intersection that is
-// empty (area at most `negligible`) pruned with all its supersets. `level` holds a buffer for every
-// depth (at most loops.size() − 1), made before the first call.
-// The loops are given as `clipper(k)`, each clean of vertices so close that their edge's direction
-// is rounding (as a clipper, such an edge cuts the plane at a random angle).
-template <class Clipper, class Factor>
-double union_factor(std::size_t count, const Clipper& clipper, const Loop2d& current, std::size_t next, double sign,
-                    double negligible, std::vector<Loop2d>& level, std::size_t depth, Loop2d& scratch,
-                    const Factor& factor) {
-  double sum = sign * factor(current);
-  for (std::size_t k = next; k < count; ++k) {
-    Loop2d& part = level[depth];  // room for every depth made by the caller: `current` may be level[depth − 1]
-    clip_convex_into(current, clipper(k), part, scratch);
-    if (part.size() < 3 || std::abs(signed_area(part)) <= negligible) continue;
-    sum += union_factor(count, clipper, part, k + 1, -sign, negligible, level, depth + 1, scratch, factor);
-  }
-  return sum;
-}
-
-}  // namespace
 
 double ExactVisibility::Shadow::hidden_factor(const Triangle& part) const {
   const std::size_t count = bounds_.size();
@@ -704,9 +692,12 @@ double ExactVisibility::Shadow::hidden_factor(const Triangle& part) const {
   const auto shadow_of = [&](std::size_t k) {
     return std::span<const Point2d>(vertices_.data() + start_[group[k]], vertices_.data() + start_[group[k] + 1]);
   };
+  // F(∪_i Q_i) = Σ over nonempty K of (−1)^(|K|+1) F(∩_K Q), taken as each Q_i (sign +1) with its
+  // intersections with the shadows A_j of the groups after i (Q_i lies in the part: Q_i ∩ A_j = Q_i ∩ Q_j).
   double hidden = 0;
+  const auto add = [&](const Loop2d& loop, double sign) { hidden += sign * factor(loop); };
   for (std::size_t i = 0; i < kept; ++i)
-    hidden += union_factor(kept, shadow_of, clipped[i], i + 1, 1.0, negligible, level, 0, scratch, factor);
+    inclusion_exclusion(kept, shadow_of, clipped[i], i + 1, 1.0, negligible, level, 0, scratch, add);
   return std::max(0.0, hidden);
 }
 
