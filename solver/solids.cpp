@@ -50,25 +50,53 @@ Components components(const std::vector<Surface>& surfaces) {
     while (parent[x] != x) x = parent[x] = parent[parent[x]];
     return x;
   };
-  // An edge's ends (lower position first) → the first triangle on it, whether it runs from the
-  // lower end there, and how many triangles share it.
+  // Every edge of every triangle: its ends (welded positions, lower first), the triangle, and whether
+  // it runs from the lower end there; sorted so that the uses of one edge are adjacent.
   struct EdgeUse {
+    std::pair<int, int> ends;
     int triangle;
     bool forward;
-    int count;
   };
-  std::map<std::pair<int, int>, EdgeUse> edge;
-  std::vector<char> inconsistent(all.size(), 0);
+  std::vector<EdgeUse> uses;
+  uses.reserve(3 * all.size());
   for (int t = 0; t < static_cast<int>(all.size()); ++t)
     for (int k = 0; k < 3; ++k) {
       const int a = vertex[3 * t + k], b = vertex[3 * t + (k + 1) % 3];
-      const auto [it, added] = edge.try_emplace(std::minmax(a, b), EdgeUse{t, a < b, 1});
-      if (added) continue;
-      parent[root(t)] = root(it->second.triangle);
-      if (++it->second.count > 2 || it->second.forward == (a < b)) inconsistent[t] = 1;
+      uses.push_back({std::minmax(a, b), t, a < b});
     }
-  for (const auto& [ends, use] : edge)
-    if (use.count == 1) out.boundary.push_back({use.triangle, ends.first, ends.second});
+  std::sort(uses.begin(), uses.end(), [](const EdgeUse& x, const EdgeUse& y) {
+    return x.ends != y.ends ? x.ends < y.ends : x.triangle < y.triangle;
+  });
+  // Triangles are joined across edges that exactly two of them share. An edge shared by more (a crate's
+  // wall standing on a floor whose triangles meet below it, two cubes touching along an edge) joins
+  // nothing: each component then sees its own uses of it below.
+  for (std::size_t i = 0, j; i < uses.size(); i = j) {
+    for (j = i + 1; j < uses.size() && uses[j].ends == uses[i].ends; ++j) {
+    }
+    if (j - i == 2) parent[root(uses[i + 1].triangle)] = root(uses[i].triangle);
+  }
+  // Per edge and component: one use is an edge of its boundary; two must run opposite ways; more are
+  // inconsistent.
+  std::vector<char> inconsistent(all.size(), 0);
+  std::vector<std::pair<int, const EdgeUse*>> by_component;
+  for (std::size_t i = 0, j; i < uses.size(); i = j) {
+    for (j = i + 1; j < uses.size() && uses[j].ends == uses[i].ends; ++j) {
+    }
+    by_component.clear();
+    for (std::size_t u = i; u < j; ++u) by_component.emplace_back(root(uses[u].triangle), &uses[u]);
+    std::sort(by_component.begin(), by_component.end(),
+              [](const auto& x, const auto& y) { return x.first < y.first; });
+    for (std::size_t u = 0, v; u < by_component.size(); u = v) {
+      for (v = u + 1; v < by_component.size() && by_component[v].first == by_component[u].first; ++v) {
+      }
+      const EdgeUse& first = *by_component[u].second;
+      if (v - u == 1) {
+        out.boundary.push_back({first.triangle, first.ends.first, first.ends.second});
+      } else if (v - u > 2 || by_component[u + 1].second->forward == first.forward) {
+        for (std::size_t w = u; w < v; ++w) inconsistent[by_component[w].second->triangle] = 1;
+      }
+    }
+  }
   out.component.resize(all.size());
   out.sums.resize(all.size());
   const Point3 o = out.origin = all.empty() ? Point3{} : all[0].v[0];

@@ -16,8 +16,9 @@ namespace lambert {
 std::vector<char> surfaces_bounding_solids(const std::vector<Surface>& surfaces);
 
 // The closed components whose faces point out of the volume they enclose, consistently (every edge
-// shared by two of its triangles runs opposite ways in them; an edge shared by more is taken as
-// inconsistent). A segment between two points outside that volume that crosses such a triangle from
+// shared by two of its triangles runs opposite ways in them; an edge shared by more of them is taken
+// as inconsistent). An edge that more than two triangles of the scene share joins none of them (a
+// crate's wall and the floor's triangles meeting under it): each component counts its own uses. A segment between two points outside that volume that crosses such a triangle from
 // behind, leaving the volume, has crossed one of the component's triangles from the front before: for
 // visibility between points outside it, its triangles seen from behind are redundant
 // (ExactVisibility). Where the solid is also convex, the triangles it turns towards a point outside
