@@ -180,10 +180,14 @@ class Hierarchy {
   std::vector<ClusterLink> cluster_links;
   // Links whose rays were all blocked (factor 0, sorted by receiver), kept for solver.exact_visibility
   // only: the rays between coarse elements decide for the refinement, but a leaf below may see part
-  // of the source, which the final gather (LeafGather) traces again. None are kept past
-  // kMaxLeafLinks (hidden_complete false: the gather then does not retrace).
+  // of the source, which the final gather (LeafGather) evaluates again. Links from clusters and into
+  // clusters too: a three-cube furnace room whose 128 hidden links from clusters were dropped missed
+  // 6e-4 of some rows (a cube's face 63 % visible from leaves whose ancestor's 16 rays all met another
+  // cube). None are kept past kMaxLeafLinks (hidden_complete false: the gather then does not retrace).
   std::vector<Link> hidden_links;
   std::vector<std::size_t> hidden_start;
+  std::vector<ClusterLink> hidden_cluster_links;  // links into clusters, the same way
+  std::vector<std::size_t> hidden_cluster_start;  // CSR over receiving clusters
   bool hidden_complete = true;
   std::vector<std::size_t> cluster_link_start;  // CSR over receiving clusters
   std::vector<char> links_below;  // cluster c or one below it receives cluster links
@@ -467,9 +471,13 @@ class Hierarchy {
     };
     offsets(links, link_start);
     offsets(hidden_links, hidden_start);
-    cluster_link_start.assign(clusters.size() + 1, 0);
-    for (const ClusterLink& l : cluster_links) ++cluster_link_start[l.receiver + 1];
-    for (std::size_t c = 0; c < clusters.size(); ++c) cluster_link_start[c + 1] += cluster_link_start[c];
+    auto cluster_offsets = [&](const std::vector<ClusterLink>& list, std::vector<std::size_t>& start) {
+      start.assign(clusters.size() + 1, 0);
+      for (const ClusterLink& l : list) ++start[l.receiver + 1];
+      for (std::size_t c = 0; c < clusters.size(); ++c) start[c + 1] += start[c];
+    };
+    cluster_offsets(cluster_links, cluster_link_start);
+    cluster_offsets(hidden_cluster_links, hidden_cluster_start);
     links_below.assign(clusters.size(), 0);
     for (std::size_t c = clusters.size(); c-- > 0;) {  // children come after their parent
       const Cluster& cl = clusters[c];
@@ -778,6 +786,7 @@ struct LinkBatch {
   LinkBlocks<Link> links;
   LinkBlocks<ClusterLink> cluster_links;
   LinkBlocks<Link> hidden;  // links that rays found hidden, for the final gather (Hierarchy::hidden_links)
+  LinkBlocks<ClusterLink> hidden_cluster;  // links into clusters that rays found hidden (the same)
   std::vector<Link> pending;
   std::vector<ClusterLink> cluster_pending;
 };
@@ -1141,7 +1150,7 @@ class Refiner {
         fraction, 16, early);
     for (std::size_t l = 0; l < out.pending.size(); ++l) {
       if (!(fraction[l] > 0)) {
-        if (!out.pending[l].from_cluster && hidden_room_.load(std::memory_order_relaxed) > 0 &&
+        if (hidden_room_.load(std::memory_order_relaxed) > 0 &&
             hidden_room_.fetch_sub(1, std::memory_order_relaxed) > 0)
           out.hidden.push_back(out.pending[l]);
         continue;
@@ -1185,7 +1194,11 @@ class Refiner {
         [&](std::size_t, const Point3& p, const Point3& q) { return link_weight(p, receiver_normal, q, source_normal); },
         fraction, 16);
     for (std::size_t l = 0; l < out.cluster_pending.size(); ++l) {
-      if (!(fraction[l] > 0)) continue;
+      if (!(fraction[l] > 0)) {
+        if (hidden_room_.load(std::memory_order_relaxed) > 0 && hidden_room_.fetch_sub(1, std::memory_order_relaxed) > 0)
+          out.hidden_cluster.push_back(out.cluster_pending[l]);
+        continue;
+      }
       ClusterLink link = out.cluster_pending[l];
       for (float& c : link.coeff) c = static_cast<float>(c * fraction[l]);
       out.cluster_links.push_back(link);
@@ -1304,7 +1317,10 @@ class Refiner {
 // docs/BENCHMARKS.md; a scene whose leaf links would exceed the budget keeps its links.
 constexpr double kLeafFarField = 4;        // the rule alone beyond this many leaf radii
 constexpr int kExpandedClusterRoots = 16;  // clusters of at most this many roots are expanded
-constexpr int kMaxCuttingPlanes = 3;       // planes that divide a leaf's rule (LeafGather::leaf_rule)
+constexpr int kMaxCuttingPlanes = 3;       // planes that divide a leaf's rule (LeafGather::leaf_pieces)
+constexpr double kRuleTolerance = 1e-5;    // of a row, from its near sources (LeafGather::gather_leaf)
+constexpr int kRuleLevels = 3;             // times gather_leaf may split the pieces near them
+constexpr double kRuleSplitDistance = kLeafFarField;  // pieces this near a near source are split (radii)
 // The budget of leaf links: at most this many per link of the refinement or per patch, whichever is
 // more, and kMaxLeafLinks in all (28 bytes each, held twice while they are merged: 1.8 GB at most
 // beside the refinement's links, which the 10⁶-patch scenes of docs/BENCHMARKS.md leave room for
@@ -1398,6 +1414,7 @@ class LeafGather {
     }
     merge_rechecked(h_.links, std::move(fresh));
     release(h_.hidden_links);
+    release(h_.hidden_cluster_links);
     std::size_t kept = 0;
     for (std::size_t l = 0; l < h_.cluster_links.size(); ++l)
       if (!cluster_link_expands_[l]) h_.cluster_links[kept++] = h_.cluster_links[l];
@@ -1423,7 +1440,9 @@ class LeafGather {
           for (std::size_t e = range.begin(); e != range.end(); ++e) {
             for (std::size_t l = h_.link_start[e]; l < h_.link_start[e + 1]; ++l)
               if (expanded(h_.links[l], static_cast<int>(e))) sum += leaves_below_[e] * sources_of(h_.links[l], static_cast<int>(e));
-            if (retrace_) sum += leaves_below_[e] * (h_.hidden_start[e + 1] - h_.hidden_start[e]);
+            if (retrace_)
+              for (std::size_t l = h_.hidden_start[e]; l < h_.hidden_start[e + 1]; ++l)
+                sum += leaves_below_[e] * sources_of_hidden(h_.hidden_links[l]).size();
           }
           return sum;
         },
@@ -1431,6 +1450,8 @@ class LeafGather {
     for (std::size_t l = 0; l < h_.cluster_links.size(); ++l)
       if (cluster_link_expands_[l])
         n += cluster_leaves(h_.cluster_links[l].receiver) * roots_of(h_.cluster_links[l]);
+    if (retrace_)
+      for (const ClusterLink& l : h_.hidden_cluster_links) n += cluster_leaves(l.receiver) * roots_of(l);
     return n;
   }
 
@@ -1454,6 +1475,11 @@ class LeafGather {
       for (int r : roots)
         if (!clear(receiver, r)) return 0;
     return roots.size();
+  }
+  // The element sources of a link that the refinement's rays found hidden: its source, or the roots
+  // of a small cluster (a larger one's stay hidden: none in the three-cube and L-shaped furnaces).
+  std::span<const int> sources_of_hidden(const Link& l) const {
+    return l.from_cluster ? small_cluster(l.source) : std::span<const int>(&l.source, 1);
   }
   std::size_t roots_of(const ClusterLink& l) const { return l.from_cluster ? small_cluster(l.source).size() : 1; }
   bool expands(const ClusterLink& l) const {
@@ -1489,14 +1515,18 @@ class LeafGather {
     const auto [first, end] = h_.root_block[r];
     // Expanded links into the clusters above this root: the same sources for all its leaves.
     std::vector<Entry> from_cluster_links;
-    for (int c = cluster_of_root_[first]; c >= 0; c = cluster_parent_[c])
-      for (std::size_t l = h_.cluster_link_start[c]; l < h_.cluster_link_start[c + 1]; ++l) {
-        if (!cluster_link_expands_[l]) continue;
-        const ClusterLink& link = h_.cluster_links[l];
-        if (!link.from_cluster) from_cluster_links.push_back({link.source, kVisibilityUnknown});
-        for (int s : link.from_cluster ? small_cluster(link.source) : std::span<const int>{})
-          from_cluster_links.push_back({s, kVisibilityUnknown});
-      }
+    auto add_sources = [&](const ClusterLink& link) {
+      if (!link.from_cluster) from_cluster_links.push_back({link.source, kVisibilityUnknown});
+      for (int s : link.from_cluster ? small_cluster(link.source) : std::span<const int>{})
+        from_cluster_links.push_back({s, kVisibilityUnknown});
+    };
+    for (int c = cluster_of_root_[first]; c >= 0; c = cluster_parent_[c]) {
+      for (std::size_t l = h_.cluster_link_start[c]; l < h_.cluster_link_start[c + 1]; ++l)
+        if (cluster_link_expands_[l]) add_sources(h_.cluster_links[l]);
+      if (retrace_)
+        for (std::size_t l = h_.hidden_cluster_start[c]; l < h_.hidden_cluster_start[c + 1]; ++l)
+          add_sources(h_.hidden_cluster_links[l]);
+    }
     std::vector<Entry> entries;
     std::vector<Link> row;
     for (int e = first; e < end; ++e) {
@@ -1512,7 +1542,7 @@ class LeafGather {
         }
         if (retrace_)
           for (std::size_t l = h_.hidden_start[p]; l < h_.hidden_start[p + 1]; ++l)
-            entries.push_back({h_.hidden_links[l].source, kVisibilityUnknown});
+            for (int s : sources_of_hidden(h_.hidden_links[l])) entries.push_back({s, kVisibilityUnknown});
       }
       row.clear();
       gather_leaf(e, entries, row, stats);
@@ -1528,9 +1558,9 @@ class LeafGather {
   // rule; across a cutting plane the kernel has a kink that a leaf-wide rule misses (1.7e-4 of the
   // row at the cube room's leaves cut by the cube's faces' planes), and on the pieces there is none.
   // cut[k]: whether the plane of entries[k]'s source cuts the leaf (front_part), computed once by the caller.
-  void leaf_rule(const Element& L, const std::vector<Entry>& entries, const std::vector<char>& cut,
-                 std::vector<Point3>& nodes, std::vector<double>& weights) const {
-    thread_local std::vector<Triangle> pieces, next;
+  void leaf_pieces(const Element& L, const std::vector<Entry>& entries, const std::vector<char>& cut,
+                   std::vector<Triangle>& pieces) const {
+    thread_local std::vector<Triangle> next;
     pieces.assign(1, L.tri);
     if (retrace_) {
       std::array<std::pair<Vector3, Point3>, kMaxCuttingPlanes> planes;  // unit normal, a point on it
@@ -1560,6 +1590,10 @@ class LeafGather {
         pieces.swap(next);
       }
     }
+  }
+  // The degree-5 rule on each piece, weighted by its share of the leaf.
+  static void leaf_rule(const Element& L, const std::vector<Triangle>& pieces, std::vector<Point3>& nodes,
+                        std::vector<double>& weights) {
     const TriangleRule rule = triangle_rule_degree5();
     nodes.clear(), weights.clear();
     for (const Triangle& t : pieces) {
@@ -1572,11 +1606,47 @@ class LeafGather {
     }
   }
 
+  // Splits 1:4 the pieces nearer one of the `near` sources than kRuleSplitDistance of their radius.
+  // Returns whether any was split.
+  static bool split_near(std::vector<Triangle>& pieces, std::span<const Triangle* const> near) {
+    thread_local std::vector<Triangle> next;
+    next.clear();
+    for (const Triangle& t : pieces) {
+      const Point3 c = t.centroid();
+      double r = 0;
+      for (const Point3& v : t.v) r = std::max(r, distance(c, v));
+      const bool close = std::any_of(near.begin(), near.end(), [&](const Triangle* S) {
+        return distance_to_triangle(c, *S) <= kRuleSplitDistance * r;
+      });
+      if (!close) {
+        next.push_back(t);
+        continue;
+      }
+      const auto mid = [](const Point3& a, const Point3& b) { return a + (b - a) * 0.5; };
+      const Point3 m01 = mid(t.v[0], t.v[1]), m12 = mid(t.v[1], t.v[2]), m20 = mid(t.v[2], t.v[0]);
+      next.push_back(Triangle{{t.v[0], m01, m20}});
+      next.push_back(Triangle{{m01, t.v[1], m12}});
+      next.push_back(Triangle{{m20, m12, t.v[2]}});
+      next.push_back(Triangle{{m01, m12, m20}});
+    }
+    if (next.size() == pieces.size()) return false;
+    pieces.swap(next);
+    return true;
+  }
+
   // The leaf links of leaf element e from `entries`, appended to `row`.
+  //
+  // A near source's link takes its exact mean (exchange_area) times the visible fraction that the rule
+  // finds; every other link, the rule's mean. The visible factors at a node sum to 1 over a closed
+  // scene, so the row misses 1 by Σ v (F − F_rule) over the near sources, F_rule being the rule's mean
+  // of their unoccluded factors and v their visible fractions. With retrace, the rule is refined
+  // where that sum exceeds kRuleTolerance (the pieces near a near source split 1:4, at most
+  // kRuleLevels times) and the links formed again: a floor leaf whose corner touches a crate's corner
+  // missed 1.8e-3 of its row with the leaf-wide rule, 2.4e-5 after two splits. Over an adjacent wall
+  // the near sources' errors cancel (their union's factor is smooth over the leaf), so few leaves
+  // are refined: 36 of 3 204 in the L-shaped room of tools/l_room_furnace.py.
   void gather_leaf(int e, const std::vector<Entry>& entries, std::vector<Link>& row, LeafGatherStats& stats) const {
     const Element& L = h_.elements[e];
-    thread_local std::vector<Point3> nodes;
-    thread_local std::vector<double> weights, f, hidden, pending_f;
     thread_local std::vector<char> usable, cut;
     usable.resize(entries.size()), cut.resize(entries.size());
     for (std::size_t k = 0; k < entries.size(); ++k) {
@@ -1585,11 +1655,83 @@ class LeafGather {
                   any_in_front(L.tri, L.normal, S.tri) && any_in_front(S.tri, S.normal, L.tri);
       cut[k] = usable[k] && front_part(L.tri, S.tri.v[0], S.tri.area_vector()).cut;
     }
-    leaf_rule(L, entries, cut, nodes, weights);
-    const std::size_t size = nodes.size();
-    const std::span<const Point3> node_span(nodes);
-    f.resize(size), hidden.resize(size);
+    // Where the leaf is small beside its distance to the source and wholly in front of the source's
+    // plane, the kernel is smooth over it and the rule alone is exact to about 1e-6; nearer, the
+    // link's factor is the exact mean.
+    thread_local std::vector<double> near_F;  // per entry: the exact mean where near, else −1
+    near_F.assign(entries.size(), -1.0);
+    for (std::size_t k = 0; k < entries.size(); ++k) {
+      if (!usable[k]) continue;
+      const Triangle& S = h_.elements[entries[k].source].tri;
+      if (cut[k] || distance_to_triangle(L.centre, S) <= kLeafFarField * L.radius)
+        near_F[k] = exchange_area(L.tri, S, near_field_) / L.area;
+    }
+    thread_local std::vector<Triangle> pieces;
+    leaf_pieces(L, entries, cut, pieces);
+    // The near sources, and the leaf's own near links that stay (wholly visible, exact means too).
+    thread_local std::vector<const Triangle*> near;
+    thread_local std::vector<double> kept_F;
+    near.clear(), kept_F.clear();
+    if (retrace_) {
+      for (std::size_t l = h_.link_start[e]; l < h_.link_start[e + 1]; ++l) {
+        const Link& link = h_.links[l];
+        if (link.from_cluster || expanded(link, e)) continue;
+        const Triangle& S = h_.elements[link.source].tri;
+        if (distance_to_triangle(L.centre, S) > kLeafFarField * L.radius) continue;
+        near.push_back(&S);
+        kept_F.push_back((double{link.coeff[0]} + link.coeff[1] + link.coeff[2]) / 3);
+      }
+      for (std::size_t k = 0; k < entries.size(); ++k)
+        if (near_F[k] >= 0) near.push_back(&h_.elements[entries[k].source].tri);
+    }
     const std::size_t begin = row.size();
+    thread_local std::vector<Point3> nodes;
+    thread_local std::vector<double> weights, f;
+    thread_local std::vector<int> row_entry;  // per link formed: its entry
+    for (int level = 0;; ++level) {
+      leaf_rule(L, pieces, nodes, weights);
+      LeafGatherStats attempt;
+      row_entry.clear();
+      form_links(e, entries, usable, near_F, nodes, weights, row, row_entry, attempt);
+      bool done = !retrace_ || near.empty() || level == kRuleLevels;
+      if (!done) {
+        double missed = 0;  // Σ v (F − F_rule) over the near sources
+        f.resize(nodes.size());
+        const auto rule_mean = [&](const Triangle& S) {
+          point_triangle_factors(nodes, L.normal, S, f);
+          double F = 0;
+          for (std::size_t q = 0; q < nodes.size(); ++q) F += weights[q] * f[q];
+          return F;
+        };
+        for (std::size_t i = 0; i < kept_F.size(); ++i) missed += kept_F[i] - rule_mean(*near[i]);
+        for (std::size_t i = begin; i < row.size(); ++i) {
+          const double F = near_F[row_entry[i - begin]];
+          if (F < 0 || row[i].source == kReplaced) continue;
+          missed += row[i].coeff[0] * (1 - rule_mean(h_.elements[row[i].source].tri) / F);
+        }
+        done = std::abs(missed) <= kRuleTolerance || !split_near(pieces, near);
+      }
+      if (done) {
+        stats.traced += attempt.traced, stats.exact += attempt.exact;
+        break;
+      }
+      row.resize(begin);
+    }
+    row.erase(std::remove_if(row.begin() + static_cast<std::ptrdiff_t>(begin), row.end(),
+                             [](const Link& l) { return l.source == kReplaced; }),
+              row.end());
+    stats.leaf_links += row.size() - begin;
+  }
+
+  // The links of leaf e for the rule (nodes, weights), appended to `row` (those found hidden with
+  // source kReplaced), and each one's entry to `row_entry`.
+  void form_links(int e, const std::vector<Entry>& entries, const std::vector<char>& usable,
+                  const std::vector<double>& near_F, std::span<const Point3> node_span, std::span<const double> weights,
+                  std::vector<Link>& row, std::vector<int>& row_entry, LeafGatherStats& stats) const {
+    const Element& L = h_.elements[e];
+    const std::size_t size = node_span.size();
+    thread_local std::vector<double> f, hidden, pending_f;
+    f.resize(size), hidden.resize(size);
     // The links whose visibility is evaluated at the leaf: their index into row, and their row of
     // pending_f, the factors at the rule's nodes where the pass below computed them (else −1).
     std::vector<std::pair<int, int>> pending;
@@ -1600,12 +1742,12 @@ class LeafGather {
       const Element& S = h_.elements[entry.source];
       const bool proven = entry.verdict == kShaftClear || clear(e, entry.source);
       const bool visible = proven || (!retrace_ && entry.verdict == kRaysUnanimous);
-      // Where the leaf is small beside its distance to the source and wholly in front of the
-      // source's plane, the kernel is smooth over it and the rule alone is exact to about 1e-6.
-      const bool near = cut[k] || distance_to_triangle(L.centre, S.tri) <= kLeafFarField * L.radius;
+      const bool near = near_F[k] >= 0;
       double F = 0;
       int f_row = -1;
-      if (near || !h_.has_children(entry.source)) {  // leaf pairs as the refiner's: A F the same both ways
+      if (near) {
+        F = near_F[k];
+      } else if (!h_.has_children(entry.source)) {  // leaf pairs as the refiner's: A F the same both ways
         F = exchange_area(L.tri, S.tri, near_field_) / L.area;
       } else {
         point_triangle_factors(node_span, L.normal, S.tri, f);
@@ -1628,11 +1770,9 @@ class LeafGather {
       link.bin[2] = proven ? kShaftClear : visible ? kRaysUnanimous : kVisibilityUnknown;
       if (!visible) pending.emplace_back(static_cast<int>(row.size()), f_row);
       row.push_back(link);
+      row_entry.push_back(static_cast<int>(k));
     }
-    if (pending.empty()) {
-      stats.leaf_links += row.size() - begin;
-      return;
-    }
+    if (pending.empty()) return;
     // The visible part at the rule's nodes, exactly (no rays: rays that agree by chance were what kept
     // the rows near an occluder from closing): F(x_q -> S) less the factor the occluders hide at
     // each node, as a fraction of the link's unoccluded rule. The links are taken by the input
@@ -1660,7 +1800,7 @@ class LeafGather {
         for (std::size_t l = g; l < next; ++l) row[pending[l].first].bin[2] = kShaftClear;
         continue;
       }
-      for (std::size_t q = 0; q < size; ++q) exact_.shadow(nodes[q], L.normal, T, candidates, shadows[q]);
+      for (std::size_t q = 0; q < size; ++q) exact_.shadow(node_span[q], L.normal, T, candidates, shadows[q]);
       for (std::size_t l = g; l < next; ++l) {
         Link& link = row[pending[l].first];
         const Triangle& source = h_.elements[link.source].tri;
@@ -1668,7 +1808,7 @@ class LeafGather {
         for (std::size_t q = 0; q < size; ++q) {
           // +∞: wholly in the shadow, f[q] − hidden[q] is then 0 below
           hidden[q] = shadows[q].formed() ? shadows[q].hidden_factor(source)
-                                          : exact_.hidden_factor(nodes[q], L.normal, source, candidates);
+                                          : exact_.hidden_factor(node_span[q], L.normal, source, candidates);
           any = any || hidden[q] > 0;
         }
         double v = 1;
@@ -1689,10 +1829,6 @@ class LeafGather {
         if (!(v > 0)) link.source = kReplaced;  // hidden: dropped below
       }
     }
-    row.erase(std::remove_if(row.begin() + static_cast<std::ptrdiff_t>(begin), row.end(),
-                             [](const Link& l) { return l.source == kReplaced; }),
-              row.end());
-    stats.leaf_links += row.size() - begin;
   }
 
   Hierarchy& h_;
@@ -2235,9 +2371,11 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
       if (hidden_room.load() <= 0) {  // none kept, or past kMaxLeafLinks: the gather will not retrace
         h.hidden_complete = false;
         release(h.hidden_links);
-        for (LinkBatch& batch : found) batch.hidden = {};
+        release(h.hidden_cluster_links);
+        for (LinkBatch& batch : found) batch.hidden = {}, batch.hidden_cluster = {};
       } else {
         merge_rechecked(h.hidden_links, take_sorted(found, &LinkBatch::hidden));
+        merge_rechecked(h.hidden_cluster_links, take_sorted(found, &LinkBatch::hidden_cluster));
       }
       h.index_links();
       if (round == kRefineRounds - 1) gather_at_leaves();
