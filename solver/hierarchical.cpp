@@ -62,6 +62,7 @@ constexpr std::size_t kResolveBatch = 4096;  // pending links traced together (R
 constexpr double kCachedSeparation = 1.5;  // see Refiner::leaf_exchange
 constexpr std::size_t kMaxBatch = 16;   // systems per gather pass (the GMRES batch size)
 constexpr int kMaxBalanceSweeps = 100;  // of the closure balance; the error usually halves per sweep
+constexpr int kExpandedClusterRoots = 16;  // clusters of at most this many roots are expanded (LeafGather)
 
 struct Element {
   Triangle tri;
@@ -464,20 +465,15 @@ class Hierarchy {
 
   // The CSR offsets of links and cluster_links (each sorted by receiver), and links_below.
   void index_links() {
-    auto offsets = [&](const std::vector<Link>& list, std::vector<std::size_t>& start) {
-      start.assign(elements.size() + 1, 0);
-      for (const Link& l : list) ++start[l.receiver + 1];
-      for (std::size_t e = 0; e < elements.size(); ++e) start[e + 1] += start[e];
+    auto offsets = [](const auto& list, std::size_t receivers, std::vector<std::size_t>& start) {
+      start.assign(receivers + 1, 0);
+      for (const auto& l : list) ++start[l.receiver + 1];
+      for (std::size_t r = 0; r < receivers; ++r) start[r + 1] += start[r];
     };
-    offsets(links, link_start);
-    offsets(hidden_links, hidden_start);
-    auto cluster_offsets = [&](const std::vector<ClusterLink>& list, std::vector<std::size_t>& start) {
-      start.assign(clusters.size() + 1, 0);
-      for (const ClusterLink& l : list) ++start[l.receiver + 1];
-      for (std::size_t c = 0; c < clusters.size(); ++c) start[c + 1] += start[c];
-    };
-    cluster_offsets(cluster_links, cluster_link_start);
-    cluster_offsets(hidden_cluster_links, hidden_cluster_start);
+    offsets(links, elements.size(), link_start);
+    offsets(hidden_links, elements.size(), hidden_start);
+    offsets(cluster_links, clusters.size(), cluster_link_start);
+    offsets(hidden_cluster_links, clusters.size(), hidden_cluster_start);
     links_below.assign(clusters.size(), 0);
     for (std::size_t c = clusters.size(); c-- > 0;) {  // children come after their parent
       const Cluster& cl = clusters[c];
@@ -865,12 +861,21 @@ std::array<unsigned char, 3> source_point_of(const Element& S, const Element& R)
   return {q1, q2, 0};
 }
 
+// Room left for the links that rays found hidden (Hierarchy::hidden_links), kept for
+// solver.exact_visibility only; each one kept takes one, and at 0 no more are kept. Links between
+// elements: when their room runs out the gather does not retrace at all (Hierarchy::hidden_complete).
+// Links from or into clusters have a room of their own, past which they are dropped (the city
+// block's overran kMaxLeafLinks, and with one room for both its gather did not retrace).
+struct HiddenRoom {
+  std::atomic<std::int64_t> elements{0}, clustered{0};
+};
+
 // The refinement of one (receiver element, source) pair into links, with the BF oracle.
 class Refiner {
  public:
   Refiner(const Hierarchy& h, const Visibility& vis, const ExactVisibility& shafts, const std::vector<double>& element_B,
           const std::vector<double>& cluster_B, double epsilon, double unit_area, double accuracy,
-          ExchangeCache& exchange, std::atomic<std::int64_t>& hidden_room)
+          ExchangeCache& exchange, HiddenRoom& hidden_room)
       : h_(h), vis_(vis), shafts_(shafts), element_B_(element_B), cluster_B_(cluster_B), epsilon_(epsilon),
         unit_area_(unit_area), exchange_(exchange), hidden_room_(hidden_room) {
     // The cubature of near pairs may err by a tenth of what the oracle allows a link (relative), not
@@ -1150,8 +1155,7 @@ class Refiner {
         fraction, 16, early);
     for (std::size_t l = 0; l < out.pending.size(); ++l) {
       if (!(fraction[l] > 0)) {
-        if (hidden_room_.load(std::memory_order_relaxed) > 0 &&
-            hidden_room_.fetch_sub(1, std::memory_order_relaxed) > 0)
+        if (keeps_hidden(out.pending[l].from_cluster, out.pending[l].from_cluster, out.pending[l].source))
           out.hidden.push_back(out.pending[l]);
         continue;
       }
@@ -1195,7 +1199,7 @@ class Refiner {
         fraction, 16);
     for (std::size_t l = 0; l < out.cluster_pending.size(); ++l) {
       if (!(fraction[l] > 0)) {
-        if (hidden_room_.load(std::memory_order_relaxed) > 0 && hidden_room_.fetch_sub(1, std::memory_order_relaxed) > 0)
+        if (keeps_hidden(true, out.cluster_pending[l].from_cluster, out.cluster_pending[l].source))
           out.hidden_cluster.push_back(out.cluster_pending[l]);
         continue;
       }
@@ -1204,6 +1208,15 @@ class Refiner {
       out.cluster_links.push_back(link);
     }
     out.cluster_pending.clear();
+  }
+
+  // Whether a link that rays found hidden is kept for the final gather (Hierarchy::hidden_links):
+  // while there is room, if the gather can expand its source (an element, or a cluster of at most
+  // kExpandedClusterRoots roots). `clustered`: from a cluster or into one.
+  bool keeps_hidden(bool clustered, bool from_cluster, int source) const {
+    if (from_cluster && h_.clusters[source].root_count > kExpandedClusterRoots) return false;
+    std::atomic<std::int64_t>& room = clustered ? hidden_room_.clustered : hidden_room_.elements;
+    return room.load(std::memory_order_relaxed) > 0 && room.fetch_sub(1, std::memory_order_relaxed) > 0;
   }
 
   // Re-examines a kept link into a cluster: keeps it (false) or refines the pair again (true).
@@ -1280,8 +1293,7 @@ class Refiner {
   double unit_area_;
   AreaFactorOptions near_field_;
   ExchangeCache& exchange_;
-  // Room left for hidden links (Hierarchy::hidden_links): each one kept takes one; at 0 none is kept.
-  std::atomic<std::int64_t>& hidden_room_;
+  HiddenRoom& hidden_room_;
 };
 
 // ---- The final gather at the leaves ----
@@ -1316,7 +1328,6 @@ class Refiner {
 // Memory and time grow with the leaf links, about 10 per expanded link in the rooms of
 // docs/BENCHMARKS.md; a scene whose leaf links would exceed the budget keeps its links.
 constexpr double kLeafFarField = 4;        // the rule alone beyond this many leaf radii
-constexpr int kExpandedClusterRoots = 16;  // clusters of at most this many roots are expanded
 constexpr int kMaxCuttingPlanes = 3;       // planes that divide a leaf's rule (LeafGather::leaf_pieces)
 constexpr double kRuleTolerance = 1e-5;    // of a row, from its near sources (LeafGather::gather_leaf)
 constexpr int kRuleLevels = 3;             // times gather_leaf may split the pieces near them
@@ -1360,9 +1371,10 @@ class LeafGather {
     }
   }
 
-  // Whether there are leaf links to form, at most `budget` of them. Prepares run(): the occluder
-  // planes' sides of every element (256 bytes each) where the planes can serve and the elements are
-  // not too many.
+  // Whether there are leaf links to form, at most `budget` of them; where there would be more, the
+  // hidden links from and into clusters are left out first. Prepares run(): the occluder planes'
+  // sides of every element (256 bytes each) where the planes can serve and the elements are not too
+  // many.
   bool fits(std::size_t budget) {
     if (planes_.usable() && planes_.planes() > 0 && h_.elements.size() <= kMaxSidedElements) {
       sides_.resize(h_.elements.size());
@@ -1375,7 +1387,11 @@ class LeafGather {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, h_.cluster_links.size(), 16), [&](const auto& range) {
       for (std::size_t l = range.begin(); l != range.end(); ++l) cluster_link_expands_[l] = expands(h_.cluster_links[l]);
     });
-    const std::size_t n = count();
+    std::size_t n = count();
+    if (n > budget && clustered_hidden_) {  // without the hidden links from and into clusters
+      clustered_hidden_ = false;
+      n = count();
+    }
     return n > 0 && n <= budget;
   }
 
@@ -1450,7 +1466,7 @@ class LeafGather {
     for (std::size_t l = 0; l < h_.cluster_links.size(); ++l)
       if (cluster_link_expands_[l])
         n += cluster_leaves(h_.cluster_links[l].receiver) * roots_of(h_.cluster_links[l]);
-    if (retrace_)
+    if (retrace_ && clustered_hidden_)
       for (const ClusterLink& l : h_.hidden_cluster_links) n += cluster_leaves(l.receiver) * roots_of(l);
     return n;
   }
@@ -1477,9 +1493,10 @@ class LeafGather {
     return roots.size();
   }
   // The element sources of a link that the refinement's rays found hidden: its source, or the roots
-  // of a small cluster (a larger one's stay hidden: none in the three-cube and L-shaped furnaces).
+  // of a small cluster (links from larger ones are not kept: Refiner::keeps_hidden).
   std::span<const int> sources_of_hidden(const Link& l) const {
-    return l.from_cluster ? small_cluster(l.source) : std::span<const int>(&l.source, 1);
+    if (!l.from_cluster) return {&l.source, 1};
+    return clustered_hidden_ ? small_cluster(l.source) : std::span<const int>{};
   }
   std::size_t roots_of(const ClusterLink& l) const { return l.from_cluster ? small_cluster(l.source).size() : 1; }
   bool expands(const ClusterLink& l) const {
@@ -1523,7 +1540,7 @@ class LeafGather {
     for (int c = cluster_of_root_[first]; c >= 0; c = cluster_parent_[c]) {
       for (std::size_t l = h_.cluster_link_start[c]; l < h_.cluster_link_start[c + 1]; ++l)
         if (cluster_link_expands_[l]) add_sources(h_.cluster_links[l]);
-      if (retrace_)
+      if (retrace_ && clustered_hidden_)
         for (std::size_t l = h_.hidden_cluster_start[c]; l < h_.hidden_cluster_start[c + 1]; ++l)
           add_sources(h_.hidden_cluster_links[l]);
     }
@@ -1778,9 +1795,12 @@ class LeafGather {
     // each node, as a fraction of the link's unoccluded rule. The links are taken by the input
     // triangle their source was cut from: the occluders in the shaft between the leaf and that
     // triangle are the only ones any node can see in front of its sources (none: every one is wholly
-    // visible), and where they are one convex solid or one triangle, their shadow on its plane from
-    // each node serves all its sources (ExactVisibility::Shadow); otherwise each source takes
-    // hidden_factor among them.
+    // visible). Where up to Shadow::kMaxGroups groups of them (convex solids, single triangles)
+    // occlude, their shadows on its plane from each node serve all its sources (ExactVisibility::
+    // Shadow); where more do, each source takes hidden_factor among them. (The part of that triangle
+    // each node sees, one Boolean evaluation for all its sources, was tried for those: on the city
+    // block, whose carriers include the ground, each such union held many buildings' shadows and
+    // the gather stayed in CGAL.)
     stats.traced += pending.size();
     std::sort(pending.begin(), pending.end(), [&](const auto& a, const auto& b) {
       return std::pair{h_.elements[row[a.first].source].input, a.first} <
@@ -1837,6 +1857,7 @@ class LeafGather {
   std::span<const Triangle> inputs_;
   bool retrace_;
   bool all_clear_ = false;  // no occluder plane at all: every pair is clear
+  bool clustered_hidden_ = true;  // the hidden links from and into clusters are expanded (fits())
   AreaFactorOptions near_field_;
   std::vector<OccluderPlanes::Sides> sides_;  // per element, where planes_ is usable
   std::vector<std::size_t> leaves_below_;     // per element
@@ -2295,7 +2316,11 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
       return true;
     };
     // Hidden links are kept for the final gather's retrace only (solver.exact_visibility).
-    std::atomic<std::int64_t> hidden_room{scene.solver.exact_visibility ? static_cast<std::int64_t>(kMaxLeafLinks) : 0};
+    HiddenRoom hidden_room;
+    if (scene.solver.exact_visibility) {
+      hidden_room.elements = static_cast<std::int64_t>(kMaxLeafLinks);
+      hidden_room.clustered = static_cast<std::int64_t>(kMaxLeafLinks / 4);
+    }
     for (int round = 0; round < kRefineRounds; ++round) {
       // ---- links (form factors) ----
       auto t1 = Clock::now();
@@ -2368,7 +2393,7 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
         merge_rechecked(h.links, take_sorted(found, &LinkBatch::links));
         merge_rechecked(h.cluster_links, take_sorted(found, &LinkBatch::cluster_links));
       }
-      if (hidden_room.load() <= 0) {  // none kept, or past kMaxLeafLinks: the gather will not retrace
+      if (hidden_room.elements.load() <= 0) {  // none kept, or past kMaxLeafLinks: the gather will not retrace
         h.hidden_complete = false;
         release(h.hidden_links);
         release(h.hidden_cluster_links);

@@ -129,6 +129,10 @@ TEST(Hierarchical, ExactVisibilityClosesTheRowsPastSeveralOccluders) {
   // too), the hull of the plate's shadow from some points came out pinched (rounding), and the
   // leaves next to the crate and the plate took the leaf-wide rule: 2.4e-3 with the three, now
   // 6.2e-5 (and 3.2 times faster: the crate's back faces are skipped).
+  auto solve_exact = [](Scene scene) {
+    scene.solver.exact_visibility = true;
+    return solve_with(scene, SolverMethod::Hierarchical);
+  };
   {
     SceneBuilder b;
     const int grey = b.material("grey", 0.5);
@@ -137,9 +141,7 @@ TEST(Hierarchical, ExactVisibilityClosesTheRowsPastSeveralOccluders) {
     b.surface("cube1", grey, box({2.6, 1.5, 1.2}, {3.4, 2.3, 2.0}, false), 1.0);
     b.surface("cube2", grey, box({4.2, 2.0, 0.6}, {5.0, 2.8, 1.4}, false), 1.0);
     b.max_patch_area(0.16);
-    Scene scene = b.scene();
-    scene.solver.exact_visibility = true;
-    const Solution sol = solve_with(scene, SolverMethod::Hierarchical);
+    const Solution sol = solve_exact(b.scene());
     EXPECT_LT(sol.stats.max_closure_error, 1e-5);
     expect_furnace(sol, 0.5);
   }
@@ -159,9 +161,7 @@ TEST(Hierarchical, ExactVisibilityClosesTheRowsPastSeveralOccluders) {
     b.surface("plate", grey, box({4.5, 0.5, 1.0}, {5.5, 1.5, 1.01}, false), 1.0);
     b.surface("cube", grey, box({1, 2.6, 1.2}, {1.8, 3.4, 2.0}, false), 1.0);
     b.max_patch_area(0.2);
-    Scene scene = b.scene();
-    scene.solver.exact_visibility = true;
-    const Solution sol = solve_with(scene, SolverMethod::Hierarchical);
+    const Solution sol = solve_exact(b.scene());
     EXPECT_LT(sol.stats.max_closure_error, 1e-4);
     EXPECT_GT(sol.stats.enclosed_patches, 0u);  // the floor under the crate
   }
