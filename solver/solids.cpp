@@ -19,17 +19,21 @@ struct Components {
     Vector3 vector_area{};
     double area = 0, volume = 0;  // volume: signed, positive where the faces point out of it
     bool consistent = true;       // every shared edge runs opposite ways in its two triangles
+    bool holed = false;           // an edge of one triangle that no other one runs back along
   };
   std::vector<Sums> sums;      // per component (indexed as `component`)
   Point3 origin;               // of the volumes
-  // Edges with one triangle: that triangle and the edge's ends (welded positions).
+  // Edges with one triangle: that triangle, the edge's ends (welded positions, lower first) and
+  // whether it runs from a to b there.
   struct BoundaryEdge {
     int triangle, a, b;
+    bool forward;
   };
   std::vector<BoundaryEdge> boundary;
   bool closed(int c) const {
     const Sums& s = sums[c];
-    return s.area > 0 && length(s.vector_area) <= 1e-6 * s.area && std::abs(s.volume) > 1e-6 * s.area * std::sqrt(s.area);
+    return s.area > 0 && !s.holed && length(s.vector_area) <= 1e-6 * s.area &&
+           std::abs(s.volume) > 1e-6 * s.area * std::sqrt(s.area);
   }
 };
 
@@ -91,7 +95,7 @@ Components components(const std::vector<Surface>& surfaces) {
       }
       const EdgeUse& first = *by_component[u].second;
       if (v - u == 1) {
-        out.boundary.push_back({first.triangle, first.ends.first, first.ends.second});
+        out.boundary.push_back({first.triangle, first.ends.first, first.ends.second, first.forward});
       } else if (v - u > 2 || by_component[u + 1].second->forward == first.forward) {
         for (std::size_t w = u; w < v; ++w) inconsistent[by_component[w].second->triangle] = 1;
       }
@@ -109,6 +113,34 @@ Components components(const std::vector<Surface>& surfaces) {
     s.area += 0.5 * length(twice);
     s.volume += dot(a, cross(b, d)) / 6;
     s.consistent = s.consistent && !inconsistent[t];
+  }
+  // A closed surface may have edges of one triangle where its meshes meet at T-junctions, but then
+  // other such edges run back along each of them. An edge where no other one of its component runs
+  // back over a point of it borders a hole, which the vector area does not see where holes face
+  // each other (a cube missing one floor and one roof triangle). Components with more than
+  // kMaxCheckedBoundary such edges are not checked (sparse: most components have none).
+  constexpr std::size_t kMaxCheckedBoundary = 4096;
+  std::map<int, std::vector<const Components::BoundaryEdge*>> edges_of;
+  for (const auto& e : out.boundary) edges_of[out.component[e.triangle]].push_back(&e);
+  auto position = [&](int v) { return all[v / 3].v[v % 3]; };
+  for (const auto& [k, edges] : edges_of) {
+    if (edges.size() > kMaxCheckedBoundary) continue;
+    for (const Components::BoundaryEdge* e : edges) {
+      const Point3 p = position(e->forward ? e->a : e->b), q = position(e->forward ? e->b : e->a);
+      const Point3 m = p + (q - p) * 0.41421356;  // not where a junction usually lies (its midpoint)
+      const bool covered = std::any_of(edges.begin(), edges.end(), [&](const Components::BoundaryEdge* f) {
+        if (f == e) return false;
+        const Point3 r = position(f->forward ? f->a : f->b), t = position(f->forward ? f->b : f->a);
+        const Vector3 d = t - r;
+        if (!(dot(d, q - p) < 0)) return false;  // runs back
+        const double l2 = dot(d, d), u = dot(m - r, d) / l2;
+        return u > 0 && u < 1 && length(m - (r + d * u)) <= 1e-9 * std::sqrt(l2);
+      });
+      if (!covered) {
+        out.sums[k].holed = true;
+        break;
+      }
+    }
   }
   return out;
 }

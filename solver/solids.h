@@ -1,8 +1,9 @@
 // Closed surfaces (and convex ones that one plane closes): which triangles bound a solid. The triangles of all surfaces are joined into
 // components across edges whose ends coincide (a box given as six surfaces, one per face, is one
 // component); a component is closed when its vector area Σ A n vanishes (as it does for any closed
-// surface, T-junctions or not) and it encloses a volume (which a sheet's two faces back to back do
-// not). Its faces may point out of that volume (a box) or into it (a room).
+// surface, T-junctions or not), every edge of one triangle has another running back over it (as at a
+// T-junction; not along a hole, which holes facing each other hide from the vector area) and it
+// encloses a volume (which a sheet's two faces back to back do not). Its faces may point out of that volume (a box) or into it (a room).
 #pragma once
 
 #include <vector>

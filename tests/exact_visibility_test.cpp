@@ -458,6 +458,24 @@ TEST(Solids, OnlyTheFacesOfClosedOutwardSolidsAreFlagged) {
   }
   ASSERT_EQ(two_missing.size(), 10u);
   EXPECT_TRUE(all_of(outward_flags({two_missing}), 0));
+  // Holes facing each other, which the vector area does not see: one floor and one roof triangle
+  // missing. And T-junctions, which leave edges of one triangle but no hole: the roof as two
+  // rectangles, its edges along two walls halved (closed).
+  std::vector<Triangle> facing_holes, t_junctions;
+  bool floor_gone = false, roof_gone = false;
+  for (const Triangle& t : cube) {
+    const Vector3 a = t.area_vector();
+    if (a.z < 0 && !floor_gone) floor_gone = true;
+    else if (a.z > 0 && !roof_gone) roof_gone = true;
+    else facing_holes.push_back(t);
+    if (a.z <= 0) t_junctions.push_back(t);
+  }
+  ASSERT_EQ(facing_holes.size(), 10u);
+  EXPECT_TRUE(all_of(outward_flags({facing_holes}), 0));
+  for (const Triangle& t : rect_at(0, 0.5, 0, 1, 1, false)) t_junctions.push_back(t);
+  for (const Triangle& t : rect_at(0.5, 1, 0, 1, 1, false)) t_junctions.push_back(t);
+  ASSERT_EQ(t_junctions.size(), 14u);
+  EXPECT_TRUE(all_of(outward_flags({t_junctions}), 1));
   auto flipped = cube;
   for (int t = 0; t < 2; ++t) std::swap(flipped[t].v[1], flipped[t].v[2]);
   EXPECT_TRUE(all_of(outward_flags({flipped}), 0));
