@@ -126,6 +126,7 @@ Components components(const std::vector<Surface>& surfaces) {
   for (const auto& [k, edges] : edges_of) {
     if (edges.size() > kMaxCheckedBoundary) continue;
     for (const Components::BoundaryEdge* e : edges) {
+      if (e->a == e->b) continue;  // a degenerate triangle's edge of no length
       const Point3 p = position(e->forward ? e->a : e->b), q = position(e->forward ? e->b : e->a);
       const Point3 m = p + (q - p) * 0.41421356;  // not where a junction usually lies (its midpoint)
       const bool covered = std::any_of(edges.begin(), edges.end(), [&](const Components::BoundaryEdge* f) {
