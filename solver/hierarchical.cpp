@@ -184,7 +184,8 @@ class Hierarchy {
   // of the source, which the final gather (LeafGather) evaluates again. Links from clusters and into
   // clusters too: a three-cube furnace room whose 128 hidden links from clusters were dropped missed
   // 6e-4 of some rows (a cube's face 63 % visible from leaves whose ancestor's 16 rays all met another
-  // cube). None are kept past kMaxLeafLinks (hidden_complete false: the gather then does not retrace).
+  // cube). Links between elements are not kept past kMaxLeafLinks (hidden_complete false: the gather
+  // then does not retrace); the others have a room of their own (HiddenRoom).
   std::vector<Link> hidden_links;
   std::vector<std::size_t> hidden_start;
   std::vector<ClusterLink> hidden_cluster_links;  // links into clusters, the same way
