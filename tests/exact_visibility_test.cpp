@@ -448,28 +448,28 @@ TEST(Solids, OnlyTheFacesOfClosedOutwardSolidsAreFlagged) {
   // Not closed, nor closed by one plane: triangles of two faces missing; not consistent: a face
   // flipped (its edges run the same way as its neighbours'); a sheet's two faces back to back
   // (closed, but enclosing no volume).
-  std::vector<Triangle> two_missing;
-  bool floor_taken = false, wall_taken = false;
-  for (const Triangle& t : cube) {
-    const Vector3 a = t.area_vector();
-    if (a.z < 0 && !floor_taken) floor_taken = true;
-    else if (a.x > 0 && !wall_taken) wall_taken = true;
-    else two_missing.push_back(t);
-  }
+  // The cube without the first triangle facing `a` and the first facing `b`.
+  auto two_taken = [&](const Vector3& a, const Vector3& b) {
+    std::vector<Triangle> out;
+    bool a_taken = false, b_taken = false;
+    for (const Triangle& t : cube) {
+      const Vector3 n = t.area_vector();
+      if (dot(n, a) > 0 && !a_taken) a_taken = true;
+      else if (dot(n, b) > 0 && !b_taken) b_taken = true;
+      else out.push_back(t);
+    }
+    return out;
+  };
+  const std::vector<Triangle> two_missing = two_taken({0, 0, -1}, {1, 0, 0});
   ASSERT_EQ(two_missing.size(), 10u);
   EXPECT_TRUE(all_of(outward_flags({two_missing}), 0));
   // Holes facing each other, which the vector area does not see: one floor and one roof triangle
   // missing. And T-junctions, which leave edges of one triangle but no hole: the roof as two
   // rectangles, its edges along two walls halved (closed).
-  std::vector<Triangle> facing_holes, t_junctions;
-  bool floor_gone = false, roof_gone = false;
-  for (const Triangle& t : cube) {
-    const Vector3 a = t.area_vector();
-    if (a.z < 0 && !floor_gone) floor_gone = true;
-    else if (a.z > 0 && !roof_gone) roof_gone = true;
-    else facing_holes.push_back(t);
-    if (a.z <= 0) t_junctions.push_back(t);
-  }
+  const std::vector<Triangle> facing_holes = two_taken({0, 0, -1}, {0, 0, 1});
+  std::vector<Triangle> t_junctions;
+  for (const Triangle& t : cube)
+    if (t.area_vector().z <= 0) t_junctions.push_back(t);
   ASSERT_EQ(facing_holes.size(), 10u);
   EXPECT_TRUE(all_of(outward_flags({facing_holes}), 0));
   for (const Triangle& t : rect_at(0, 0.5, 0, 1, 1, false)) t_junctions.push_back(t);
