@@ -65,8 +65,8 @@ struct Triangle {
   double area() const { return length(area_vector()); }
   Vector3 normal() const { return normalize(area_vector()); }  // counter-clockwise = front
   Point3 centroid() const { return barycentric(v[0], v[1], v[2], 1.0 / 3, 1.0 / 3, 1.0 / 3); }
-  double max_edge_length() const {
-    return std::max({distance(v[0], v[1]), distance(v[1], v[2]), distance(v[2], v[0])});
+  double max_edge_length() const {  // one root: the square root is monotone, so the same value
+    return std::sqrt(std::max({length_squared(v[1] - v[0]), length_squared(v[2] - v[1]), length_squared(v[0] - v[2])}));
   }
   // Largest distance from the centroid to a vertex: the radius of a sphere around the centroid that
   // holds the triangle (used for near/far decisions).
@@ -102,11 +102,23 @@ inline double distance_to_triangle(const Point3& p, const Triangle& t) {
 
 // Whether any vertex of b lies strictly in front of the plane of a (unit normal na), with a tolerance
 // relative to the triangles' size: b can receive from, or radiate to, a's front side only then.
+// (The tolerance's scale is bounded first by the edges' taxicab lengths, which are no shorter: only a
+// vertex within that bound of the plane needs the lengths themselves. This test runs for every pair
+// of the final gather's rows.)
 inline bool any_in_front(const Triangle& a, const Vector3& na, const Triangle& b) {
-  const double scale = a.max_edge_length() + b.max_edge_length();
-  for (const Point3& p : b.v)
-    if (dot(p - a.v[0], na) > 1e-12 * scale) return true;
-  return false;
+  const double d[3] = {dot(b.v[0] - a.v[0], na), dot(b.v[1] - a.v[0], na), dot(b.v[2] - a.v[0], na)};
+  const double highest = std::max({d[0], d[1], d[2]});
+  if (!(highest > 0)) return false;
+  const auto taxicab = [](const Triangle& t) {
+    double longest = 0;
+    for (int k = 0; k < 3; ++k) {
+      const Vector3 e = t.v[(k + 1) % 3] - t.v[k];
+      longest = std::max(longest, std::abs(e.x) + std::abs(e.y) + std::abs(e.z));
+    }
+    return longest;
+  };
+  if (highest > 1e-12 * (taxicab(a) + taxicab(b))) return true;
+  return highest > 1e-12 * (a.max_edge_length() + b.max_edge_length());
 }
 
 // A map key for the plane through a triangle (unit normal n, offset d from some common origin): the

@@ -108,6 +108,16 @@ inline FrontPart front_part(const Triangle& t, const Point3& o, const Vector3& m
   return out;
 }
 
+// front_part(t, o, m).cut without the pieces: whether vertices lie on both sides, beyond the same
+// tolerance (only evaluated where the signs differ). For the pair tests of every link and leaf link.
+inline bool plane_cuts(const Triangle& t, const Point3& o, const Vector3& m) {
+  const double h[3] = {dot(t.v[0] - o, m), dot(t.v[1] - o, m), dot(t.v[2] - o, m)};
+  const double highest = std::max({h[0], h[1], h[2]}), lowest = std::min({h[0], h[1], h[2]});
+  if (!(highest > 0 && lowest < 0)) return false;
+  const double tolerance = 1e-12 * length(m) * t.max_edge_length();
+  return highest > tolerance && lowest < -tolerance;
+}
+
 // Whether a triangle is elongated enough (longest edge over height above 4) that bisection serves
 // it better than the 1:4 split.
 inline bool is_elongated(const Triangle& t) {

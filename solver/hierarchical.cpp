@@ -941,7 +941,7 @@ class Refiner {
     // kernel, log-singular near contact).
     const double separation = distance(R.centre, S.centre) / (R.radius + S.radius);
     // (The fixed rule's mean only where S's plane does not cut R: see cubature.h, front_part.)
-    const bool smooth = separation > 4 && !front_part(R.tri, S.tri.v[0], S.tri.area_vector()).cut;
+    const bool smooth = separation > 4 && !plane_cuts(R.tri, S.tri.v[0], S.tri.area_vector());
     const double F = smooth ? mean : exchange_area(R.tri, S.tri, near_field_) / R.area;
     if (F <= 0) return;
     const double shift = F - (a[0] + a[1] + a[2]) / 3;  // the linear factor's mean is F exactly
@@ -1609,6 +1609,13 @@ class LeafGather {
       }
     }
   }
+  // Whether p lies within `reach` of element S (distance_to_triangle), the sphere about S first: most
+  // sources of a row are far beyond it. (A margin of 1e-9 keeps the verdict the distance's own.)
+  static bool within(const Point3& p, const Element& S, double reach) {
+    const double bound = reach + S.radius;
+    if (length_squared(p - S.centre) > bound * bound * (1 + 1e-9)) return false;
+    return distance_to_triangle(p, S.tri) <= reach;
+  }
   // The degree-5 rule on each piece, weighted by its share of the leaf.
   static void leaf_rule(const Element& L, const std::vector<Triangle>& pieces, std::vector<Point3>& nodes,
                         std::vector<double>& weights) {
@@ -1671,7 +1678,7 @@ class LeafGather {
       const Element& S = h_.elements[entries[k].source];
       usable[k] = entries[k].source != e && !h_.is_enclosed(entries[k].source) &&
                   any_in_front(L.tri, L.normal, S.tri) && any_in_front(S.tri, S.normal, L.tri);
-      cut[k] = usable[k] && front_part(L.tri, S.tri.v[0], S.tri.area_vector()).cut;
+      cut[k] = usable[k] && plane_cuts(L.tri, S.tri.v[0], S.tri.area_vector());
     }
     // Where the leaf is small beside its distance to the source and wholly in front of the source's
     // plane, the kernel is smooth over it and the rule alone is exact to about 1e-6; nearer, the
@@ -1681,7 +1688,7 @@ class LeafGather {
     for (std::size_t k = 0; k < entries.size(); ++k) {
       if (!usable[k]) continue;
       const Triangle& S = h_.elements[entries[k].source].tri;
-      if (cut[k] || distance_to_triangle(L.centre, S) <= kLeafFarField * L.radius)
+      if (cut[k] || within(L.centre, h_.elements[entries[k].source], kLeafFarField * L.radius))
         near_F[k] = exchange_area(L.tri, S, near_field_) / L.area;
     }
     thread_local std::vector<Triangle> pieces;
@@ -1695,7 +1702,7 @@ class LeafGather {
         const Link& link = h_.links[l];
         if (link.from_cluster || expanded(link, e)) continue;
         const Triangle& S = h_.elements[link.source].tri;
-        if (distance_to_triangle(L.centre, S) > kLeafFarField * L.radius) continue;
+        if (!within(L.centre, h_.elements[link.source], kLeafFarField * L.radius)) continue;
         near.push_back(&S);
         kept_F.push_back((double{link.coeff[0]} + link.coeff[1] + link.coeff[2]) / 3);
       }
