@@ -148,44 +148,45 @@ __attribute__((target_clones("avx2", "default"))) void point_triangle_factors(st
   const Vector3 area = cross(t.v[1] - t.v[0], t.v[2] - t.v[0]);
   for (std::size_t first = 0; first < points.size(); first += kLanes) {
     const int used = static_cast<int>(std::min<std::size_t>(kLanes, points.size() - first));
-    double x[kLanes], y[kLanes], z[kLanes], sum[kLanes], series[kLanes], above[kLanes];  // 1 or 0
+    double x[kLanes], y[kLanes], z[kLanes], sum[kLanes], above[kLanes];  // 1 or 0
     for (int l = 0; l < kLanes; ++l) {
       const Point3& p = points[first + std::min(l, used - 1)];  // unused lanes repeat the last point
-      x[l] = p.x, y[l] = p.y, z[l] = p.z, sum[l] = 0, series[l] = 1, above[l] = 1;
+      x[l] = p.x, y[l] = p.y, z[l] = p.z, above[l] = 1;
     }
-    // The series terms first (nearly all lanes of far points need nothing else); then, only where
-    // some lane has an edge seen under more than 14°, every lane's sum again with each edge's series
-    // or wide term (a square root, two divisions and the angle's reduction). Computing both for
-    // every lane in one pass made the batch slower than the calls one by one.
-    auto pass = [&](auto wide) {
-      for (int k = 0; k < 3; ++k) {
-        const Point3& A = t.v[k];
-        const Point3& B = t.v[(k + 1) % 3];
-        for (int l = 0; l < kLanes; ++l) {
-          const double ax = A.x - x[l], ay = A.y - y[l], az = A.z - z[l];
-          const double bx = B.x - x[l], by = B.y - y[l], bz = B.z - z[l];
-          const double cx = by * az - bz * ay, cy = bz * ax - bx * az, cz = bx * ay - by * ax;  // c = b × a
-          const double c2 = cx * cx + cy * cy + cz * cz, d = ax * bx + ay * by + az * bz;
-          const double nc = n.x * cx + n.y * cy + n.z * cz;
-          const bool good = (d > 0) & (16 * c2 <= d * d);
-          const double term = series_edge_term(nc, c2, good ? d : 1.0);
-          if constexpr (decltype(wide)::value) {
-            sum[l] += good ? term : wide_edge_term(nc, c2, d);
-          } else {
-            sum[l] += good ? term : 0.0;
-            series[l] = good ? series[l] : 0.0;
-            above[l] = ax * n.x + ay * n.y + az * n.z >= 0 ? above[l] : 0.0;
-          }
-        }
+    // Every edge's series term first, kept with what its wide term needs (nearly all lanes of far
+    // points need nothing else); then, only for an edge that some lane sees under more than 14°,
+    // that edge's wide term in every lane (a square root, two divisions and the angle's reduction),
+    // selected where the series does not hold. The terms are summed in edge order, as contour_sum
+    // does. (Computing both terms for every edge and lane made the batch slower than the calls one by
+    // one; recomputing all three edges where one needed the wide term cost 44 % of the batches of
+    // the cube room's final gather a second pass.)
+    double term[3][kLanes], nc[3][kLanes], c2[3][kLanes], d[3][kLanes];
+    double wide[3];  // per edge: 1 where some lane needs the wide term
+    for (int k = 0; k < 3; ++k) {
+      const Point3& A = t.v[k];
+      const Point3& B = t.v[(k + 1) % 3];
+      double any = 0;
+      for (int l = 0; l < kLanes; ++l) {
+        const double ax = A.x - x[l], ay = A.y - y[l], az = A.z - z[l];
+        const double bx = B.x - x[l], by = B.y - y[l], bz = B.z - z[l];
+        const double cx = by * az - bz * ay, cy = bz * ax - bx * az, cz = bx * ay - by * ax;  // c = b × a
+        c2[k][l] = cx * cx + cy * cy + cz * cz, d[k][l] = ax * bx + ay * by + az * bz;
+        nc[k][l] = n.x * cx + n.y * cy + n.z * cz;
+        const bool good = (d[k][l] > 0) & (16 * c2[k][l] <= d[k][l] * d[k][l]);
+        term[k][l] = series_edge_term(nc[k][l], c2[k][l], good ? d[k][l] : 1.0);
+        any = good ? any : 1.0;
+        above[l] = ax * n.x + ay * n.y + az * n.z >= 0 ? above[l] : 0.0;
       }
-    };
-    pass(std::false_type{});
-    double all_series = 1;
-    for (int l = 0; l < kLanes; ++l) all_series = std::min(all_series, series[l]);
-    if (all_series == 0) {
-      for (int l = 0; l < kLanes; ++l) sum[l] = 0;
-      pass(std::true_type{});
+      wide[k] = any;
     }
+    for (int k = 0; k < 3; ++k) {
+      if (wide[k] == 0) continue;
+      for (int l = 0; l < kLanes; ++l) {
+        const bool good = (d[k][l] > 0) & (16 * c2[k][l] <= d[k][l] * d[k][l]);
+        term[k][l] = good ? term[k][l] : wide_edge_term(nc[k][l], c2[k][l], d[k][l]);
+      }
+    }
+    for (int l = 0; l < kLanes; ++l) sum[l] = ((0.0 + term[0][l]) + term[1][l]) + term[2][l];
     for (int l = 0; l < used; ++l) {
       const Point3& p = points[first + l];
       if (dot(t.v[0] - p, area) >= 0) out[first + l] = 0;  // p not in front
@@ -195,8 +196,38 @@ __attribute__((target_clones("avx2", "default"))) void point_triangle_factors(st
   }
 }
 
-double point_boundary_factor(const Point3& p, const Vector3& n, std::span<const Point3> boundary) {
-  return contour_sum_of(n, static_cast<int>(boundary.size()), [&](int i) { return boundary[i] - p; }) / (2 * kPi);
+// contour_sum_of's arithmetic edge by edge, in lanes over the edges: every edge's series term first
+// (the compiler vectorises that loop), then the wide term for the edges that need it, and the terms
+// summed in edge order, so the value is contour_sum_of's. The exact visible parts' loops (the final
+// gather's shadows cut to a patch, five to eight edges) are its main use.
+__attribute__((target_clones("avx2", "default"))) double point_boundary_factor(const Point3& p, const Vector3& n,
+                                                                              std::span<const Point3> boundary) {
+  constexpr int kMaxLanes = 32;
+  const int count = static_cast<int>(boundary.size());
+  if (count > kMaxLanes) return contour_sum_of(n, count, [&](int i) { return boundary[i] - p; }) / (2 * kPi);
+  double x[kMaxLanes + 1], y[kMaxLanes + 1], z[kMaxLanes + 1];
+  for (int i = 0; i < count; ++i) {
+    const Vector3 R = boundary[i] - p;
+    x[i] = R.x, y[i] = R.y, z[i] = R.z;
+  }
+  if (count > 0) x[count] = x[0], y[count] = y[0], z[count] = z[0];
+  double term[kMaxLanes], nc[kMaxLanes], c2[kMaxLanes], d[kMaxLanes];
+  double wide = 0;
+  for (int i = 0; i < count; ++i) {
+    const double ax = x[i], ay = y[i], az = z[i], bx = x[i + 1], by = y[i + 1], bz = z[i + 1];
+    const double cx = by * az - bz * ay, cy = bz * ax - bx * az, cz = bx * ay - by * ax;  // c = b × a
+    c2[i] = cx * cx + cy * cy + cz * cz, d[i] = ax * bx + ay * by + az * bz;
+    nc[i] = n.x * cx + n.y * cy + n.z * cz;
+    const bool good = (d[i] > 0) & (16 * c2[i] <= d[i] * d[i]);
+    term[i] = series_edge_term(nc[i], c2[i], good ? d[i] : 1.0);
+    wide = good ? wide : 1.0;
+  }
+  if (wide != 0)
+    for (int i = 0; i < count; ++i)
+      if (!(d[i] > 0 && 16 * c2[i] <= d[i] * d[i])) term[i] = wide_edge_term(nc[i], c2[i], d[i]);
+  double sum = 0;
+  for (int i = 0; i < count; ++i) sum += term[i];
+  return sum / (2 * kPi);
 }
 
 double triangle_solid_angle(const Point3& p, const Triangle& t) {
