@@ -4,6 +4,7 @@
 #include <benchmark/benchmark.h>
 
 #include <random>
+#include <numeric>
 #include <vector>
 
 #include "solver/cubature.h"
@@ -101,6 +102,51 @@ void ExactVisibleFactor(benchmark::State& state, bool convex) {
 }
 BENCHMARK_CAPTURE(ExactVisibleFactor, convex_sum, true);
 BENCHMARK_CAPTURE(ExactVisibleFactor, shadows_united, false);
+
+// One receiving point's shadow of the same box on a 6 × 4 m floor triangle (ExactVisibility::Shadow),
+// and the factor it hides of each 0.2 m patch of the floor's 4 × 3 m below the box: the final
+// gather's inner loop with solver.exact_visibility (patches in the shadow, outside it and across its
+// edge; `across_only`: those across the edge alone).
+void ShadowHiddenFactor(benchmark::State& state, bool across_only) {
+  const std::vector<Triangle> cube = test::box({1, 1, 1}, {2, 2, 2}, false);
+  const std::vector<int> solid(cube.size(), 0);
+  const std::vector<char> is_convex(1, 1);
+  const ExactVisibility exact(cube, solid, is_convex);
+  const Triangle floor{{Point3{0, 0, 0}, Point3{6, 0, 0}, Point3{0, 4, 0}}};
+  std::vector<int> candidates(cube.size());
+  std::iota(candidates.begin(), candidates.end(), 0);
+  ExactVisibility::Shadow shadow;
+  exact.shadow({0.4, 0.5, 2.9}, {0, 0, -1}, floor, candidates, shadow);
+  std::vector<Triangle> patches;
+  for (int i = 0; i < 20; ++i)
+    for (int j = 0; j < 15; ++j) {
+      const double x = 0.2 * i, y = 0.2 * j;
+      patches.push_back({{Point3{x, y, 0}, Point3{x + 0.2, y, 0}, Point3{x, y + 0.2, 0}}});
+      patches.push_back({{Point3{x + 0.2, y, 0}, Point3{x + 0.2, y + 0.2, 0}, Point3{x, y + 0.2, 0}}});
+    }
+  int kinds[3] = {};  // all hidden, none, part
+  for (const Triangle& t : patches) {
+    const double hidden = shadow.hidden_factor(t);
+    ++kinds[std::isinf(hidden) ? 0 : hidden == 0 ? 1 : 2];
+  }
+  state.counters["hidden"] = kinds[0], state.counters["clear"] = kinds[1], state.counters["part"] = kinds[2];
+  if (across_only)  // the patches across the shadow's edge alone: the clip and its contour sum
+    std::erase_if(patches, [&](const Triangle& t) {
+      const double hidden = shadow.hidden_factor(t);
+      return std::isinf(hidden) || hidden == 0;
+    });
+  for (auto _ : state) {
+    double sum = 0;
+    for (const Triangle& t : patches) {
+      const double hidden = shadow.hidden_factor(t);
+      sum += std::isinf(hidden) ? 1 : hidden;
+    }
+    benchmark::DoNotOptimize(sum);
+  }
+  state.SetItemsProcessed(state.iterations() * patches.size());
+}
+BENCHMARK_CAPTURE(ShadowHiddenFactor, every_patch, false);
+BENCHMARK_CAPTURE(ShadowHiddenFactor, across_the_edge, true);
 
 std::vector<Triangle> room() { return test::box({0, 0, 0}, {4, 3, 2.5}, true); }
 
