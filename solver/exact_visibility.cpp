@@ -104,39 +104,42 @@ double signed_area(const Loop2d& loop) {
   return 0.5 * a;
 }
 
+// One Sutherland–Hodgman pass: the first n vertices of `loop` cut to the left of the line a → b
+// (points on it kept), by way of `scratch`, which is swapped with it; returns the count left. Written
+// by index into room made before the pass (with push_back and a modulo per vertex the clip was 7 % of
+// a solve with solver.exact_visibility). A pass adds a vertex per crossing: one net for a convex
+// loop, at most n for any.
+std::size_t clip_pass(Loop2d& loop, std::size_t n, const Point2d& a, const Point2d& b, Loop2d& scratch) {
+  if (scratch.size() < 2 * n) scratch.resize(2 * n);
+  const double ex = b[0] - a[0], ey = b[1] - a[1];
+  auto side = [&](const Point2d& q) { return ex * (q[1] - a[1]) - ey * (q[0] - a[0]); };
+  std::size_t k = 0;
+  const Point2d* u = &loop[n - 1];  // the closing edge first: (loop[n−1], loop[0]) leads the loop
+  double su = side(*u);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Point2d& w = loop[i];
+    const double sw = side(w);
+    if ((su >= 0) != (sw >= 0)) {
+      const double t = su / (su - sw);
+      scratch[k++] = {(*u)[0] + (w[0] - (*u)[0]) * t, (*u)[1] + (w[1] - (*u)[1]) * t};
+    }
+    if (sw >= 0) scratch[k++] = w;
+    u = &w, su = sw;
+  }
+  loop.swap(scratch);
+  return k;
+}
+
 // The part of `subject` inside convex counter-clockwise `clip` (Sutherland–Hodgman, doubles). The
 // subject keeps its orientation; a subject that is not convex may come out with edges doubling back
 // along the clip's boundary, which cancel in a contour sum.
 // The same into `out`, with `scratch` for the passes between: no allocation once they have room.
 void clip_convex_into(std::span<const Point2d> subject, std::span<const Point2d> clip, Loop2d& out, Loop2d& scratch) {
-  // Written by index into room made before each pass (with push_back and a modulo per vertex this
-  // clip was 7 % of a solve with solver.exact_visibility). A pass adds a vertex per crossing: one
-  // net for a convex subject, at most n for any.
   if (out.size() < subject.size()) out.resize(subject.size());
   std::copy(subject.begin(), subject.end(), out.begin());
   std::size_t n = subject.size();
-  for (std::size_t e = 0, m = clip.size(); e < m && n >= 3; ++e) {
-    if (scratch.size() < 2 * n) scratch.resize(2 * n);
-    const Point2d& a = clip[e];
-    const Point2d& b = clip[e + 1 < m ? e + 1 : 0];
-    const double ex = b[0] - a[0], ey = b[1] - a[1];
-    auto side = [&](const Point2d& q) { return ex * (q[1] - a[1]) - ey * (q[0] - a[0]); };
-    std::size_t k = 0;
-    const Point2d* u = &out[n - 1];  // the closing edge first: (out[n−1], out[0]) leads the loop
-    double su = side(*u);
-    for (std::size_t i = 0; i < n; ++i) {
-      const Point2d& w = out[i];
-      const double sw = side(w);
-      if ((su >= 0) != (sw >= 0)) {
-        const double t = su / (su - sw);
-        scratch[k++] = {(*u)[0] + (w[0] - (*u)[0]) * t, (*u)[1] + (w[1] - (*u)[1]) * t};
-      }
-      if (sw >= 0) scratch[k++] = w;
-      u = &w, su = sw;
-    }
-    out.swap(scratch);
-    n = k;
-  }
+  for (std::size_t e = 0, m = clip.size(); e < m && n >= 3; ++e)
+    n = clip_pass(out, n, clip[e], clip[e + 1 < m ? e + 1 : 0], scratch);
   out.resize(n);
 }
 
@@ -673,24 +676,51 @@ double ExactVisibility::Shadow::hidden_factor(const Triangle& part) const {
     for (int a = 0; a < 2; ++a) lo[a] = std::min(lo[a], c[k][a]), hi[a] = std::max(hi[a], c[k][a]);
   }
   if (cross2(c[0], c[1], c[2]) < 0) std::swap(c[1], c[2]);
-  // Each group's shadow clipped to the part (Sutherland–Hodgman against its three edges). A part
-  // wholly inside one (convex: its corners are) is all hidden.
+  // Each group's shadow cut to the part. The part's corners against the shadow's edges first: outside
+  // one edge, all three, and the part lies beyond it; inside every edge, and it is all hidden (convex:
+  // its corners are). Otherwise the part is clipped by the edges that have a corner outside (the
+  // others hold all of it): a patch against a larger shadow meets one or two of them, where the
+  // shadow clipped by the part's three edges took three passes over all its corners (41 % of the
+  // time of a patch across a shadow's edge, tests/kernels_benchmark.cpp).
   thread_local std::array<Loop2d, kMaxGroups> clipped;
   std::array<std::size_t, kMaxGroups> group{};  // of each clipped loop
   thread_local Loop2d scratch;
+  constexpr std::size_t kMaxCuttingEdges = 16;  // beyond: the shadow clipped by the part, as before
   std::size_t kept = 0;
   for (std::size_t i = 0; i < count; ++i) {
     const Bounds& b = bounds_[i];
     if (lo[0] >= b.hi[0] || hi[0] <= b.lo[0] || lo[1] >= b.hi[1] || hi[1] <= b.lo[1]) continue;
     const std::span<const Point2d> polygon(vertices_.data() + start_[i], vertices_.data() + start_[i + 1]);
-    const auto in_shadow = [&](const Point2d& y) {
-      for (std::size_t v = 0, m = polygon.size(); v < m; ++v)
-        if (cross2(polygon[v], polygon[v + 1 < m ? v + 1 : 0], y) < 0) return false;
-      return true;
-    };
-    if (in_shadow(c[0]) && in_shadow(c[1]) && in_shadow(c[2])) return std::numeric_limits<double>::infinity();
-    clip_convex_into(polygon, c, clipped[kept], scratch);
-    if (clipped[kept].size() >= 3) group[kept++] = i;
+    const std::size_t m = polygon.size();
+    std::array<int, kMaxCuttingEdges> cutting;
+    std::size_t cuts = 0;
+    bool apart = false, many = false;
+    for (std::size_t v = 0; v < m && !apart; ++v) {
+      const Point2d& a = polygon[v];
+      const Point2d& b = polygon[v + 1 < m ? v + 1 : 0];
+      const int outside = (cross2(a, b, c[0]) < 0) + (cross2(a, b, c[1]) < 0) + (cross2(a, b, c[2]) < 0);
+      apart = outside == 3;
+      if (outside == 0) continue;
+      if (cuts < cutting.size()) cutting[cuts] = static_cast<int>(v);
+      many = many || cuts == cutting.size();
+      ++cuts;
+    }
+    if (apart) continue;
+    if (cuts == 0) return std::numeric_limits<double>::infinity();
+    Loop2d& loop = clipped[kept];
+    if (many) {
+      clip_convex_into(polygon, c, loop, scratch);
+    } else {
+      if (loop.size() < 3) loop.resize(3);
+      std::copy(c.begin(), c.end(), loop.begin());
+      std::size_t n = 3;
+      for (std::size_t k = 0; k < cuts && n >= 3; ++k) {
+        const std::size_t v = static_cast<std::size_t>(cutting[k]);
+        n = clip_pass(loop, n, polygon[v], polygon[v + 1 < m ? v + 1 : 0], scratch);
+      }
+      loop.resize(n);
+    }
+    if (loop.size() >= 3) group[kept++] = i;
   }
   if (kept == 0) return 0;
   // The contour sum over a loop, each vertex relative to p.
