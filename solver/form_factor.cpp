@@ -63,7 +63,10 @@ inline double edge_angle(double s, double d) {
 // the square root nor the angle's reduction; wider ones edge_angle.
 // An edge's term γ n·c/|c| for nc = n·c, c2 = |c|², d = R_i·R_{i+1}: the one expression of contour_sum
 // and of point_triangle_factors' lanes, so both give the same value.
-inline double series_edge_term(double nc, double c2, double d) { return nc * atan_over_t(c2 / (d * d)) / d; }
+inline double series_edge_term(double nc, double c2, double d) {
+  const double r = 1 / d;  // one division (two were a sixth of a batch)
+  return nc * atan_over_t(c2 * r * r) * r;
+}
 inline double wide_edge_term(double nc, double c2, double d) {
   const double s = std::sqrt(c2);
   return s > 0 ? edge_angle(s, d) * nc / s : 0.0;  // s = 0: parallel (γ = 0), or p on the edge's line
