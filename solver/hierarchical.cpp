@@ -112,11 +112,25 @@ static_assert(sizeof(Link) == 28);
 // The weights w_v = 2 (β_v − 1/3) of an element link's point on its source, by which it reads the
 // source's corner children: the linear field fitted to their means m_v is B + Σ_v D_v β_v with
 // D_v = 2 (m_v − Σ m / 3), so the field at β is B + Σ_v w_v m_v. All 0 at the centroid (or no point).
-std::array<double, 3> corner_weights(const Link& l) {
-  const double b1 = l.bin[0] / kPointScale, b2 = l.bin[1] / kPointScale;
+std::array<double, 3> corner_weights(unsigned char q1, unsigned char q2) {
+  const double b1 = q1 / kPointScale, b2 = q2 / kPointScale;
   return {2 * (1 - b1 - b2 - 1.0 / 3), 2 * (b1 - 1.0 / 3), 2 * (b2 - 1.0 / 3)};
 }
+std::array<double, 3> corner_weights(const Link& l) { return corner_weights(l.bin[0], l.bin[1]); }
 bool reads_centroid(const Link& l) { return l.bin[0] == kCentroid && l.bin[1] == kCentroid; }
+
+// A link that the final gather formed at a leaf (LeafGather), from an element: its factor is one
+// value over the leaf, so it keeps neither its receiver (Hierarchy::leaf_link_start gives it) nor
+// three coefficients. 12 bytes against a Link's 28: the passes of the closure balance and the solve
+// go over these links, which are most of a gathered scene's (8.9 M of 9.1 M in the cube room of
+// docs/BENCHMARKS.md), at the speed of memory.
+struct LeafLink {
+  int source = 0;                                       // element
+  float F = 0;                                          // the factor, the same at the three vertices
+  std::array<unsigned char, 2> point{kCentroid, kCentroid};  // Link::bin[0], bin[1]: where it reads its source
+  bool reads_centroid() const { return point[0] == kCentroid && point[1] == kCentroid; }
+};
+static_assert(sizeof(LeafLink) == 12);
 // What is known of an element link's visibility, in bin[2] (unused otherwise by element links): the
 // final gather at the leaves (LeafGather) takes the link's verdict for every leaf below its receiver
 // where it is certain, and traces the leaves' own rays where it is not.
@@ -178,6 +192,14 @@ class Hierarchy {
   std::vector<int> leaves;          // element of each unknown
   std::vector<Link> links;
   std::vector<std::size_t> link_start;  // CSR over receivers: links of element e in [start[e], start[e+1])
+  // The final gather's links (LeafGather::run), CSR over receiving elements (leaves), each receiver's
+  // sorted by source; empty until then.
+  std::vector<LeafLink> leaf_links;
+  std::vector<std::size_t> leaf_link_start;
+  std::span<const LeafLink> leaf_links_of(int e) const {
+    if (leaf_link_start.empty()) return {};
+    return {leaf_links.data() + leaf_link_start[e], leaf_links.data() + leaf_link_start[e + 1]};
+  }
   std::vector<ClusterLink> cluster_links;
   // Links whose rays were all blocked (factor 0, sorted by receiver), kept for solver.exact_visibility
   // only: the rays between coarse elements decide for the refinement, but a leaf below may see part
@@ -282,6 +304,24 @@ class Hierarchy {
           for (int a = 0; a < 3; ++a) c += link.coeff[a] * phi[link.bin[a] * K + k];
           for (int n = 0; n < 3; ++n) h[n * K + k] += c;
         }
+      }
+    }
+    for (const LeafLink& link : leaf_links_of(e)) {
+      const double* b = &v.B[link.source * K];
+      const double F = link.F;
+      const int children = link.reads_centroid() ? -1 : elements[link.source].first_child;
+      if (children < 0) {
+        for (std::size_t k = 0; k < K; ++k) {
+          const double c = F * b[k];
+          for (int n = 0; n < 3; ++n) h[n * K + k] += c;
+        }
+        continue;
+      }
+      const double* m = &v.B[children * K];  // the corner children 0, 1, 2 (kChildVertex)
+      const auto w = corner_weights(link.point[0], link.point[1]);
+      for (std::size_t k = 0; k < K; ++k) {
+        const double c = F * (b[k] + w[0] * m[k] + w[1] * m[K + k] + w[2] * m[2 * K + k]);
+        for (int n = 0; n < 3; ++n) h[n * K + k] += c;
       }
     }
   }
@@ -420,6 +460,14 @@ class Hierarchy {
               const double total = h[0] + h[1] + h[2];
               for (int k = 0; k < 3; ++k) Phi_bar[link.source * 6 + link.bin[k]] += link.coeff[k] * total;
             }
+          }
+          for (const LeafLink& link : leaf_links_of(e)) {
+            const double read_bar = link.F * h[0] + link.F * h[1] + link.F * h[2];
+            B_bar[link.source] += read_bar;
+            const int children = link.reads_centroid() ? -1 : elements[link.source].first_child;
+            if (children < 0) continue;
+            const auto w = corner_weights(link.point[0], link.point[1]);
+            for (int q = 0; q < 3; ++q) B_bar[children + q] += w[q] * read_bar;
           }
           if (el.parent >= 0) {
             double* hp = &H[(el.parent - first) * 3];
@@ -1340,9 +1388,10 @@ constexpr double kRuleTolerance = 1e-5;    // of a row, from its near sources (L
 constexpr int kRuleLevels = 3;             // times gather_leaf may split the pieces near them
 constexpr double kRuleSplitDistance = kLeafFarField;  // pieces this near a near source are split (radii)
 // The budget of leaf links: at most this many per link of the refinement or per patch, whichever is
-// more, and kMaxLeafLinks in all (28 bytes each, held twice while they are merged: 1.8 GB at most
-// beside the refinement's links, which the 10⁶-patch scenes of docs/BENCHMARKS.md leave room for
-// within 8 GiB).
+// more, and kMaxLeafLinks in all (28 bytes each as the threads form them, copied block by block
+// into the 12-byte LeafLinks: 1.3 GB at most while they are copied, 0.4 GB after, beside the
+// refinement's links, which the 10⁶-patch scenes of docs/BENCHMARKS.md leave room for within 8 GiB;
+// 1.8 GB while the leaf links were merged into those).
 constexpr std::size_t kLeafLinksPerLink = 24;
 constexpr std::size_t kLeafLinksPerPatch = 1000;
 constexpr std::size_t kMaxLeafLinks = 32'000'000;
@@ -1403,8 +1452,9 @@ class LeafGather {
   }
 
   // Replaces the links that expand by leaf links (see above); the others stay. The links that expand
-  // are marked in place and the leaf links merged in (merge_rechecked), so that the links are never
-  // held twice: only the leaf links are new memory.
+  // are marked in place and dropped; the leaf links go to their own compact store
+  // (Hierarchy::leaf_links), each block's as it is copied, so that they are held twice only a block
+  // at a time.
   LeafGatherStats run(const SolveControl& control) {
     const std::size_t blocks = h_.root_block.size();
     std::vector<std::vector<Link>> out(blocks);
@@ -1427,15 +1477,21 @@ class LeafGather {
         for (std::size_t l = h_.link_start[e]; l < h_.link_start[e + 1]; ++l)
           if (expanded(h_.links[l], static_cast<int>(e))) h_.links[l].source = kReplaced;
     });
+    merge_rechecked(h_.links, {});  // drops the expanded ones
+    // The leaf links, compact (LeafLink): blocks in element order, each receiver's links by source.
     std::size_t total = 0;
     for (const auto& block : out) total += block.size();
-    std::vector<Link> fresh;  // sorted: blocks in element order, each receiver's links by source
-    fresh.reserve(total);
+    h_.leaf_links.clear();
+    h_.leaf_links.reserve(total);
+    h_.leaf_link_start.assign(h_.elements.size() + 1, 0);
     for (auto& block : out) {
-      fresh.insert(fresh.end(), block.begin(), block.end());
+      for (const Link& l : block) {
+        ++h_.leaf_link_start[l.receiver + 1];
+        h_.leaf_links.push_back({l.source, l.coeff[0], {l.bin[0], l.bin[1]}});
+      }
       release(block);
     }
-    merge_rechecked(h_.links, std::move(fresh));
+    for (std::size_t e = 0; e < h_.elements.size(); ++e) h_.leaf_link_start[e + 1] += h_.leaf_link_start[e];
     release(h_.hidden_links);
     release(h_.hidden_cluster_links);
     std::size_t kept = 0;
@@ -1891,26 +1947,38 @@ struct Reciprocity {
   double worst = 0, differ = 0, exchanged = 0;
 };
 Reciprocity reciprocity_error(const Hierarchy& h) {
-  auto exchange = [&](const Link& l) {
-    return h.elements[l.receiver].area * (double(l.coeff[0]) + l.coeff[1] + l.coeff[2]) / 3;
+  // A_r F_rs of element r's link from element s, in either store; −1 where r has none from s.
+  auto exchange_from = [&](int r, int s) {
+    const auto first = h.links.begin() + h.link_start[r];
+    const auto last = h.links.begin() + h.link_start[r + 1];
+    auto it = std::lower_bound(first, last, s, [](const Link& a, int x) { return a.source < x; });
+    while (it != last && it->source == s && it->from_cluster) ++it;
+    if (it != last && it->source == s)
+      return h.elements[r].area * (double(it->coeff[0]) + it->coeff[1] + it->coeff[2]) / 3;
+    const std::span<const LeafLink> leaf = h.leaf_links_of(r);
+    const auto at = std::lower_bound(leaf.begin(), leaf.end(), s, [](const LeafLink& a, int x) { return a.source < x; });
+    if (at != leaf.end() && at->source == s) return h.elements[r].area * double(at->F);
+    return -1.0;
+  };
+  auto add = [](Reciprocity& r, double g, double g_back) {
+    const double big = std::max(g, g_back);
+    if (!(g_back >= 0) || !(big > 0)) return;
+    r.worst = std::max(r.worst, std::abs(g - g_back) / big);
+    r.differ += std::abs(g - g_back);
+    r.exchanged += big;
   };
   return tbb::parallel_reduce(
-      tbb::blocked_range<std::size_t>(0, h.links.size(), 4096), Reciprocity{},
+      tbb::blocked_range<std::size_t>(0, h.elements.size(), 256), Reciprocity{},
       [&](const auto& range, Reciprocity r) {
-        for (std::size_t i = range.begin(); i != range.end(); ++i) {
-          const Link& l = h.links[i];
-          if (l.from_cluster) continue;
-          const auto first = h.links.begin() + h.link_start[l.source];
-          const auto last = h.links.begin() + h.link_start[l.source + 1];
-          auto it = std::lower_bound(first, last, l.receiver, [](const Link& a, int r) { return a.source < r; });
-          while (it != last && it->source == l.receiver && it->from_cluster) ++it;
-          if (it == last || it->source != l.receiver) continue;
-          const double g = exchange(l), g_back = exchange(*it), big = std::max(g, g_back);
-          if (big > 0) {
-            r.worst = std::max(r.worst, std::abs(g - g_back) / big);
-            r.differ += std::abs(g - g_back);
-            r.exchanged += big;
+        for (std::size_t e = range.begin(); e != range.end(); ++e) {
+          const int receiver = static_cast<int>(e);
+          const double area = h.elements[e].area;
+          for (std::size_t i = h.link_start[e]; i < h.link_start[e + 1]; ++i) {
+            const Link& l = h.links[i];
+            if (l.from_cluster) continue;
+            add(r, area * (double(l.coeff[0]) + l.coeff[1] + l.coeff[2]) / 3, exchange_from(l.source, receiver));
           }
+          for (const LeafLink& l : h.leaf_links_of(receiver)) add(r, area * double(l.F), exchange_from(l.source, receiver));
         }
         return r;
       },
@@ -2462,7 +2530,7 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
     sol.stats.max_reciprocity_error = reciprocity.worst;
     sol.stats.mean_reciprocity_error = reciprocity.exchanged > 0 ? reciprocity.differ / reciprocity.exchanged : 0;
   }
-  sol.stats.links = h.links.size() + h.cluster_links.size();
+  sol.stats.links = h.links.size() + h.leaf_links.size() + h.cluster_links.size();
   for (const auto& sys : systems) {
     sol.stats.iterations = std::max(sol.stats.iterations, sys.iterations);
     sol.stats.residual = std::max(sol.stats.residual, sys.residual);
