@@ -64,7 +64,7 @@ inline double edge_angle(double s, double d) {
 // An edge's term γ n·c/|c| for nc = n·c, c2 = |c|², d = R_i·R_{i+1}: the one expression of contour_sum
 // and of point_triangle_factors' lanes, so both give the same value.
 inline double series_edge_term(double nc, double c2, double d) {
-  const double r = 1 / d;  // one division (two were a sixth of a batch)
+  const double r = 1 / d;  // one division: two took 8 % more time in a batch of seven
   return nc * atan_over_t(c2 * r * r) * r;
 }
 inline double wide_edge_term(double nc, double c2, double d) {
