@@ -3,8 +3,9 @@
 // docs/BENCHMARKS.md, never in timed unit tests.
 #include <benchmark/benchmark.h>
 
-#include <random>
+#include <cmath>
 #include <numeric>
+#include <random>
 #include <vector>
 
 #include "solver/cubature.h"
