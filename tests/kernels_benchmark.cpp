@@ -1,5 +1,5 @@
 // Google Benchmark for the inner kernels: point-to-triangle factor, patch-pair cubature (far, near,
-// touching), exact visible factor past a box, Embree visibility (single and stream). Not a test: speed figures belong here and in
+// touching), exact visible factor past a box and its shadow cut to patches, Embree visibility (single and stream). Not a test: speed figures belong here and in
 // docs/BENCHMARKS.md, never in timed unit tests.
 #include <benchmark/benchmark.h>
 
