@@ -1941,8 +1941,9 @@ class LeafGather {
 // larger exchanges (each pair counted from both ends). The two directions' visible fractions come
 // from different rays, so a small link partly hidden can differ by most of its value (0.94 in the lit
 // sphere rooms of docs/BENCHMARKS.md, on factors of 1e-5 to 1e-3) while the sums differ by 0.9 % (the
-// six-sphere room, 7 636 patches). The reverse link is looked up in the receiver-sorted CSR (sorted
-// by source within a receiver), so the check needs no memory of its own and runs on every core.
+// six-sphere room, 7 636 patches). The reverse link is looked up in the receiver-sorted CSRs of both
+// stores, the refinement's links and the leaf links (each sorted by source within a receiver), so
+// the check needs no memory of its own and runs on every core.
 struct Reciprocity {
   double worst = 0, differ = 0, exchanged = 0;
 };
