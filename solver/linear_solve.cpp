@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <string>
 
 #include "solver/radiosity.h"
@@ -30,6 +31,32 @@ double norm(const double* v, std::size_t n) {
 using SystemOperator = std::function<void(const std::vector<RadiositySystem*>& batch,
                                           const std::vector<const double*>& V, const std::vector<double*>& Y)>;
 
+// acc[k] += F_ij · vt[j·K + k] over the listed columns j of one row (`row`: the row's n entries), in
+// blocks of 16 accumulators that stay in registers over the list. Compiled for AVX2 and for the
+// baseline and chosen at load time; neither uses FMA, and each k sums over j in order, so both round
+// as the plain loop does.
+__attribute__((target_clones("avx2", "default"))) void gather_row(const double* row, const std::uint32_t* columns,
+                                                                  std::size_t count, const double* vt, std::size_t K,
+                                                                  double* acc) {
+  constexpr std::size_t kBlock = 16;
+  std::size_t k0 = 0;
+  for (; k0 + kBlock <= K; k0 += kBlock) {
+    double a[kBlock];
+    std::copy(acc + k0, acc + k0 + kBlock, a);
+    for (std::size_t c = 0; c < count; ++c) {
+      const double f = row[columns[c]];
+      const double* v = vt + static_cast<std::size_t>(columns[c]) * K + k0;
+      for (std::size_t k = 0; k < kBlock; ++k) a[k] += f * v[k];
+    }
+    std::copy(a, a + kBlock, acc + k0);
+  }
+  for (std::size_t c = 0; c < count && k0 < K; ++c) {
+    const double f = row[columns[c]];
+    const double* v = vt + static_cast<std::size_t>(columns[c]) * K;
+    for (std::size_t k = k0; k < K; ++k) acc[k] += f * v[k];
+  }
+}
+
 void apply_dense(const std::vector<double>& F, std::size_t n, const std::vector<RadiositySystem*>& batch,
                  const std::vector<const double*>& V, const std::vector<double*>& Y) {
   const std::size_t K = batch.size();
@@ -43,20 +70,29 @@ void apply_dense(const std::vector<double>& F, std::size_t n, const std::vector<
     for (std::size_t j = range.begin(); j != range.end(); ++j)
       for (std::size_t k = 0; k < K; ++k) vt[j * K + k] = V[k][j];
   });
+  // Rows in ranges, columns in tiles whose part of VT stays in cache while the range's rows read it
+  // (the whole of VT did not: 0.7 MB for the Cornell box's 61 systems). Each row sums its columns in
+  // order, tile after tile.
+  constexpr std::size_t kTile = 256;
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 16), [&](const auto& range) {
-    std::vector<double> acc(K);
-    for (std::size_t i = range.begin(); i != range.end(); ++i) {
-      std::fill(acc.begin(), acc.end(), 0.0);
-      double* a = acc.data();
-      const double* row = &F[i * n];
-      for (std::size_t j = 0; j < n; ++j) {
-        const double f = row[j];
-        if (f == 0) continue;
-        const double* v = vt + j * K;
-        for (std::size_t k = 0; k < K; ++k) a[k] += f * v[k];
+    std::vector<double> acc(range.size() * K, 0.0);
+    // A row's nonzero columns, listed first without a branch per entry: most of a room's F is zero
+    // (78 % of the Cornell box's), and a test per entry mispredicted.
+    std::vector<std::uint32_t> columns(kTile);
+    for (std::size_t j0 = 0; j0 < n; j0 += kTile) {
+      const std::size_t j1 = std::min(n, j0 + kTile);
+      for (std::size_t i = range.begin(); i != range.end(); ++i) {
+        const double* row = &F[i * n];
+        std::size_t count = 0;
+        for (std::size_t j = j0; j < j1; ++j) {
+          columns[count] = static_cast<std::uint32_t>(j);
+          count += row[j] != 0;
+        }
+        gather_row(row, columns.data(), count, vt, K, &acc[(i - range.begin()) * K]);
       }
-      for (std::size_t k = 0; k < K; ++k) Y[k][i] = V[k][i] - batch[k]->rho[i] * acc[k];
     }
+    for (std::size_t i = range.begin(); i != range.end(); ++i)
+      for (std::size_t k = 0; k < K; ++k) Y[k][i] = V[k][i] - batch[k]->rho[i] * acc[(i - range.begin()) * K + k];
   });
 }
 
