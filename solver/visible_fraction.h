@@ -110,27 +110,29 @@ std::size_t weighted_visible_fractions(const Visibility& vis, std::size_t count,
   const std::array<int, 4> round_ends = {4, rounds[0], rounds[1], rounds[2]};
   for (int round = early_hidden.empty() ? 1 : 0; round < 4; ++round) {
     const bool early = round == 0;
-    segments.clear(), weights.clear(), ray_link.clear();
+    // The round's rays written in place, a ray of zero weight overwritten by the next (a branch on
+    // the weight waited for its division on every ray).
+    std::size_t most = 0;
+    for (std::size_t l : open)
+      if (!early || early_hidden[l]) most += std::max(0, round_ends[round] - next_sample[l]);
+    if (segments.size() < most) segments.resize(most), weights.resize(most), ray_link.resize(most);
+    std::size_t kept = 0;
     for (std::size_t l : open) {
       if (early && !early_hidden[l]) continue;
       for (int k = next_sample[l]; k < round_ends[round]; ++k) {
         const auto [from, to] = endpoints(l, k);
-        segments.push_back({from, to});
-        weights.push_back(weight(l, from, to));
-        ray_link.push_back(l);
+        const double w = weight(l, from, to);
+        segments[kept] = {from, to};
+        weights[kept] = w;
+        ray_link[kept] = l;
+        kept += w > 0;
       }
       next_sample[l] = std::max(next_sample[l], round_ends[round]);
     }
-    // Rays of zero weight are dropped afterwards, not as they are made: a branch on the weight there
-    // waited for its division on every ray.
-    std::size_t kept = 0;
-    for (std::size_t r = 0; r < segments.size(); ++r)
-      if (weights[r] > 0) segments[kept] = segments[r], weights[kept] = weights[r], ray_link[kept++] = ray_link[r];
-    segments.resize(kept), weights.resize(kept), ray_link.resize(kept);
-    visible.resize(segments.size());
-    vis.estimate_visible(segments, visible);
-    traced += segments.size();
-    for (std::size_t r = 0; r < segments.size(); ++r) tallies[ray_link[r]].add(weights[r], visible[r] != 0);
+    if (visible.size() < kept) visible.resize(kept);
+    vis.estimate_visible(std::span(segments.data(), kept), std::span(visible.data(), kept));
+    traced += kept;
+    for (std::size_t r = 0; r < kept; ++r) tallies[ray_link[r]].add(weights[r], visible[r] != 0);
     still_open.clear();
     for (std::size_t l : open) {
       const VisibilityTally& t = tallies[l];

@@ -1,5 +1,6 @@
 // Google Benchmark for the inner kernels: point-to-triangle factor, patch-pair cubature (far, near,
-// touching), exact visible factor past a box and its shadow cut to patches, Embree visibility (single and stream). Not a test: speed figures belong here and in
+// touching), exact visible factor past a box and its shadow cut to patches, Embree visibility (single and stream), and
+// one row of link rays with their set-up. Not a test: speed figures belong here and in
 // docs/BENCHMARKS.md, never in timed unit tests.
 #include <benchmark/benchmark.h>
 
@@ -11,6 +12,8 @@
 #include "solver/cubature.h"
 #include "solver/exact_visibility.h"
 #include "solver/form_factor.h"
+#include "solver/patch_refinement.h"
+#include "solver/radiosity.h"
 #include "solver/solids.h"
 #include "solver/visibility.h"
 #include "tests/scene_builder.h"
@@ -182,6 +185,41 @@ void BM_VisibilityStream(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations() * segments.size());
 }
 BENCHMARK(BM_VisibilityStream);
+
+// One row of the dense solve's link rays (patch_visible_fractions): a floor patch of the room above
+// against the 600 patches of its ceiling, past a 1 m box standing on the floor, so that links take
+// 4, 16 or 64 rays. Items: rays traced (Embree's share and the rays' set-up and tally together).
+void PatchVisibleFractions(benchmark::State& state) {
+  std::vector<Patch> patches;
+  auto grid = [&](double z, bool up) {
+    constexpr int nx = 20, ny = 15;
+    const double dx = 4.0 / nx, dy = 3.0 / ny;
+    for (int i = 0; i < nx; ++i)
+      for (int j = 0; j < ny; ++j) {
+        const Point3 a{i * dx, j * dy, z}, b{(i + 1) * dx, j * dy, z}, c{(i + 1) * dx, (j + 1) * dy, z},
+            d{i * dx, (j + 1) * dy, z};
+        for (Triangle t : {Triangle{{a, b, c}}, Triangle{{a, c, d}}}) {
+          if (!up) std::swap(t.v[1], t.v[2]);
+          patches.push_back({0, t, t.area(), t.normal(), -1});
+        }
+      }
+  };
+  grid(0, true);
+  const std::size_t ceiling = patches.size();
+  grid(2.5, false);
+  std::vector<Triangle> occluders = room();
+  for (const Triangle& t : test::box({1.5, 1, 0}, {2.5, 2, 1}, false)) occluders.push_back(t);
+  const Visibility vis(occluders);
+  const std::vector<Point3> samples = lifted_visibility_samples(patches, vis);
+  std::vector<std::size_t> partners(patches.size() - ceiling);
+  std::iota(partners.begin(), partners.end(), ceiling);
+  std::vector<double> fractions(partners.size());
+  const std::size_t a = 7 * 30 + 11;  // a floor patch beside the box
+  std::size_t rays = 0;
+  for (auto _ : state) rays += patch_visible_fractions(a, partners, patches, samples, vis, fractions);
+  state.SetItemsProcessed(static_cast<std::int64_t>(rays));
+}
+BENCHMARK(PatchVisibleFractions);
 
 }  // namespace
 }  // namespace lambert
