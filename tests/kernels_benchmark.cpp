@@ -214,7 +214,7 @@ void PatchVisibleFractions(benchmark::State& state) {
   std::vector<std::size_t> partners(patches.size() - ceiling);
   std::iota(partners.begin(), partners.end(), ceiling);
   std::vector<double> fractions(partners.size());
-  const std::size_t a = 7 * 30 + 11;  // a floor patch beside the box
+  const std::size_t a = 7 * 30 + 11;  // a floor patch (x 1.4-1.6 m, y 1-1.2 m) reaching under the box
   std::size_t rays = 0;
   for (auto _ : state) rays += patch_visible_fractions(a, partners, patches, samples, vis, fractions);
   state.SetItemsProcessed(static_cast<std::int64_t>(rays));
