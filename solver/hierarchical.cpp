@@ -116,8 +116,6 @@ std::array<double, 3> corner_weights(unsigned char q1, unsigned char q2) {
   const double b1 = q1 / kPointScale, b2 = q2 / kPointScale;
   return {2 * (1 - b1 - b2 - 1.0 / 3), 2 * (b1 - 1.0 / 3), 2 * (b2 - 1.0 / 3)};
 }
-std::array<double, 3> corner_weights(const Link& l) { return corner_weights(l.bin[0], l.bin[1]); }
-bool reads_centroid(const Link& l) { return l.bin[0] == kCentroid && l.bin[1] == kCentroid; }
 
 // A link that the final gather formed at a leaf (LeafGather), from an element: its factor is one
 // value over the leaf, so it keeps neither its receiver (Hierarchy::leaf_link_start gives it) nor
@@ -128,7 +126,6 @@ struct LeafLink {
   int source = 0;                                       // element
   float F = 0;                                          // the factor, the same at the three vertices
   std::array<unsigned char, 2> point{kCentroid, kCentroid};  // Link::bin[0], bin[1]: where it reads its source
-  bool reads_centroid() const { return point[0] == kCentroid && point[1] == kCentroid; }
 };
 static_assert(sizeof(LeafLink) == 12);
 // What is known of an element link's visibility, in bin[2] (unused otherwise by element links): the
@@ -276,26 +273,45 @@ class Hierarchy {
     }
   }
 
+  // How an element link reads its source element at its read point (Link::bin[0], bin[1] or
+  // LeafLink::point): the source's radiosity B, or off the centroid the linear field fitted to its
+  // corner children, B + Σ_v w_v m_v (corner_weights); and the adjoint of that read.
+  struct SourceRead {
+    int source = 0;
+    int children = -1;  // the first of the corner children 0, 1, 2 (kChildVertex), or −1: B alone
+    std::array<double, 3> w{};
+    double value(const double* B, std::size_t K, std::size_t k) const {
+      const double b = B[source * K + k];
+      if (children < 0) return b;
+      const double* m = &B[children * K];
+      return b + w[0] * m[k] + w[1] * m[K + k] + w[2] * m[2 * K + k];
+    }
+    void scatter(double read_bar, double* B_bar) const {  // B_bar += read_bar ∂value/∂B
+      B_bar[source] += read_bar;
+      if (children < 0) return;
+      for (int q = 0; q < 3; ++q) B_bar[children + q] += w[q] * read_bar;
+    }
+  };
+  SourceRead source_read(int source, std::array<unsigned char, 2> point) const {
+    // (The centroid test first: it needs only the link, and most links read the centroid.)
+    if (point[0] == kCentroid && point[1] == kCentroid) return {source};
+    const int children = elements[source].first_child;
+    if (children < 0) return {source};
+    return {source, children, corner_weights(point[0], point[1])};
+  }
+
   // Gathered irradiance at element e from its own links (not its ancestors'), K systems, as a linear
   // field over the element: its values at the three vertices, h[v K + k].
   void gather_links(int e, const Values& v, double* h) const {
     const std::size_t K = v.K;
+    const double* B = v.B.data();
     for (std::size_t l = link_start[e]; l < link_start[e + 1]; ++l) {
       const Link& link = links[l];
       if (!link.from_cluster) {
-        const double* b = &v.B[link.source * K];
-        // (The centroid test first: it needs only the link, and most links read the centroid.)
-        const int children = reads_centroid(link) ? -1 : elements[link.source].first_child;
-        if (children < 0) {
-          for (int n = 0; n < 3; ++n)
-            for (std::size_t k = 0; k < K; ++k) h[n * K + k] += link.coeff[n] * b[k];
-          continue;
-        }
-        const double* m = &v.B[children * K];  // the corner children 0, 1, 2 (kChildVertex)
-        const auto w = corner_weights(link);
+        const SourceRead read = source_read(link.source, {link.bin[0], link.bin[1]});
         for (std::size_t k = 0; k < K; ++k) {
-          const double read = b[k] + w[0] * m[k] + w[1] * m[K + k] + w[2] * m[2 * K + k];
-          for (int n = 0; n < 3; ++n) h[n * K + k] += link.coeff[n] * read;
+          const double value = read.value(B, K, k);
+          for (int n = 0; n < 3; ++n) h[n * K + k] += link.coeff[n] * value;
         }
       } else {
         const double* phi = &v.Phi[link.source * 6 * K];
@@ -307,20 +323,10 @@ class Hierarchy {
       }
     }
     for (const LeafLink& link : leaf_links_of(e)) {
-      const double* b = &v.B[link.source * K];
+      const SourceRead read = source_read(link.source, link.point);
       const double F = link.F;
-      const int children = link.reads_centroid() ? -1 : elements[link.source].first_child;
-      if (children < 0) {
-        for (std::size_t k = 0; k < K; ++k) {
-          const double c = F * b[k];
-          for (int n = 0; n < 3; ++n) h[n * K + k] += c;
-        }
-        continue;
-      }
-      const double* m = &v.B[children * K];  // the corner children 0, 1, 2 (kChildVertex)
-      const auto w = corner_weights(link.point[0], link.point[1]);
       for (std::size_t k = 0; k < K; ++k) {
-        const double c = F * (b[k] + w[0] * m[k] + w[1] * m[K + k] + w[2] * m[2 * K + k]);
+        const double c = F * read.value(B, K, k);
         for (int n = 0; n < 3; ++n) h[n * K + k] += c;
       }
     }
@@ -450,24 +456,14 @@ class Hierarchy {
             const Link& link = links[l];
             if (!link.from_cluster) {
               const double read_bar = link.coeff[0] * h[0] + link.coeff[1] * h[1] + link.coeff[2] * h[2];
-              B_bar[link.source] += read_bar;
-              const int children = reads_centroid(link) ? -1 : elements[link.source].first_child;
-              if (children >= 0) {
-                const auto w = corner_weights(link);
-                for (int q = 0; q < 3; ++q) B_bar[children + q] += w[q] * read_bar;
-              }
+              source_read(link.source, {link.bin[0], link.bin[1]}).scatter(read_bar, B_bar);
             } else {
               const double total = h[0] + h[1] + h[2];
               for (int k = 0; k < 3; ++k) Phi_bar[link.source * 6 + link.bin[k]] += link.coeff[k] * total;
             }
           }
           for (const LeafLink& link : leaf_links_of(e)) {
-            const double read_bar = link.F * h[0] + link.F * h[1] + link.F * h[2];
-            B_bar[link.source] += read_bar;
-            const int children = link.reads_centroid() ? -1 : elements[link.source].first_child;
-            if (children < 0) continue;
-            const auto w = corner_weights(link.point[0], link.point[1]);
-            for (int q = 0; q < 3; ++q) B_bar[children + q] += w[q] * read_bar;
+            source_read(link.source, link.point).scatter(link.F * h[0] + link.F * h[1] + link.F * h[2], B_bar);
           }
           if (el.parent >= 0) {
             double* hp = &H[(el.parent - first) * 3];
