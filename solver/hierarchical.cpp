@@ -229,6 +229,7 @@ class Hierarchy {
   std::vector<double> source_scale;
   double balance_omega = 1;  // ω of the last balance() if it reached its target (the next one's start)
   double balance_stalled_at = 0;  // the error where the last balance() stalled short of its target (0: none)
+  double balance_stalled_aim = 0;  // its target: a stop only for balances whose target is no tighter
 
   // Per-node values of one gather pass, K systems interleaved ([node][k]).
   struct Values {
@@ -564,10 +565,11 @@ void check_cancel(const SolveControl& control) {
 // each in the sphere furnaces, over-relaxed ones (optimal_overrelaxation, solver/linear_solve.h) by
 // about 0.3. The scales and the over-relaxation of the previous refinement round, whose links mostly
 // remain, are the starting point. The sweeps stop once every held row and column is within `target`
-// of 1 (balance_target), or where a previous balance stalled short of its own: a lit room's sweeps
-// stall at 1e-6 to 1e-5 (leaves whose rows and columns are nearly free), far below the links' own errors,
-// and aiming lower cost the 985 435-patch lit sphere room 20 sweeps a round. Returns the largest
-// row-sum error of a closed leaf before any scaling (stats.max_closure_error).
+// of 1 (balance_target), or where a previous balance stalled short of a target at least as tight
+// (a stall on the way to the oracle's target does not stop the final balance): a lit room's sweeps
+// stall at 1e-6 to 1e-5 (leaves whose rows and columns are nearly free), far below the links' own
+// errors, and aiming lower cost the 985 435-patch lit sphere room 20 sweeps a round. Returns the
+// largest row-sum error of a closed leaf before any scaling (stats.max_closure_error).
 //
 // A row-sum error ε moves the radiosity of a closed scene by about ε / (1 − ρ) of itself (the furnace:
 // B = M / (1 − ρ(1 − ε)); where nothing reflects, the irradiance by ε), so the error that moves it by
@@ -604,7 +606,7 @@ double balance(Hierarchy& h, const std::vector<char>& closed, const std::vector<
   // converged: an ω read from a stall (rates near 1) is far too large, and started the next round
   // of the lit room above at ω = 1.8, with errors of 0.2 that 40 sweeps brought down to 1e-4 only.
   double omega = h.balance_omega;
-  const double stop_at = std::max(target, h.balance_stalled_at);
+  const double stop_at = std::max(target, target >= h.balance_stalled_aim ? h.balance_stalled_at : 0.0);
   auto relax = [&](double old, double target) { return omega == 1 ? target : old * std::pow(target / old, omega); };
   auto scale_rows = [&] {  // returns the rows' error before
     h.apply({h.source_scale.data()}, {rows.data()}, false);  // Σ_j F_ij d_c,j
@@ -679,7 +681,7 @@ double balance(Hierarchy& h, const std::vector<char>& closed, const std::vector<
   }
   const bool reached = best < stop_at;
   h.balance_omega = reached ? omega : 1;
-  if (!reached) h.balance_stalled_at = best;
+  if (!reached) h.balance_stalled_at = best, h.balance_stalled_aim = target;
   omega = 1;
   // Rows last: a furnace with ρ = 0.999 multiplies a row's error by 1000. Where the sweeps stopped
   // short of convergence, the columns keep a small error, which the energy certificate shows as
@@ -2408,6 +2410,7 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
         h.source_scale.assign(N, 1.0);
         h.balance_omega = 1;
         h.balance_stalled_at = 0;
+        h.balance_stalled_aim = 0;
       }
       return true;
     };
@@ -2532,8 +2535,9 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
       solve_radiosity_systems(N, gather_all, systems, scene.solver.tolerance, scene.solver.max_iterations, cancelled);
       time_solve += seconds_since(t1);
     }
-    // The loop ended on a round that changed no link: the gather comes after its balance and solve,
-    // which are taken again, as they are where that balance aimed at the oracle's target only.
+    // The loop ended on a round that changed no link: the gather comes after that round's balance and
+    // solve, which are taken again; so are they without a gather, since that balance aimed only at
+    // the oracle's target.
     auto t1 = Clock::now();
     if ((!gathered && gather_at_leaves()) || !final_balance) {
       std::vector<double> sends(N, 0.0);
