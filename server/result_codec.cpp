@@ -186,6 +186,7 @@ void write_result(std::ostream& os, const Scene& scene, const Solution& sol, con
       {"leaf_links", st.leaf_links},
       {"leaf_links_traced", st.leaf_links_traced},
       {"leaf_links_exact", st.leaf_links_exact},
+      {"crowded_links", st.crowded_links},
       {"link_rays", st.link_rays},
       {"link_ray_thread_s", st.link_ray_thread_s},
       {"iterations", st.iterations},

@@ -1,4 +1,4 @@
-// Exact partial visibility by central projection and exact 2D Boolean operations; see
+// Exact partial visibility by central projection and 2D subtraction of convex shadows; see
 // exact_visibility.h.
 //
 // For a receiving point p (unit normal n) and a source triangle S with unit normal n_s, let
@@ -10,28 +10,32 @@
 // y = p + (q − p) h / (h − h(q)); a convex polygon stays convex under this projection because all
 // its points lie on S's side of the plane through p parallel to S. The cone is taken over S enlarged
 // by 5 % about its centroid, so that no projected edge is made to coincide with an edge of S by
-// rounding; the Boolean difference with S then cuts at S's edges exactly.
+// rounding; the difference with S then cuts at S's edges.
 //
-// The projections are subtracted from S (clipped at p's horizon) by mesh/polygon_boolean.h (CGAL
-// Polygon_set_2, exact constructions), and the visible factor is the signed contour sum over the
-// outer boundaries (counter-clockwise) and holes (clockwise) of the result.
+// The projections are subtracted from S (clipped at p's horizon): a few by inclusion–exclusion over
+// their convex intersections (signed convex loops), more by peeling S shadow by shadow into disjoint
+// convex pieces (mesh/convex2d.h), or by CGAL's Polygon_set_2 with exact constructions
+// (mesh/polygon_boolean.h, where asked: the tests' reference); the visible factor is the signed
+// contour sum over the loops of the result.
 //
 // Where the occluding parts are seen in directions that do not overlap (one triangle, or the front
 // faces of one convex solid), no union is needed. The factor they hide is the sum of the factors of
 // their parts inside the exact cone from p over S's front (hidden_factor: the contour sum of a
 // polygon depends only on the directions it covers, so the part need not be projected). For many
 // sources in one plane (Shadow), the parts are projected onto the plane once, group by group; each
-// group's convex hull is then its union, and the hulls of the groups that reach a source are clipped
-// to it and united there by inclusion–exclusion.
+// group's convex hull is then its union, the hulls of all groups are united once as disjoint convex
+// pieces, and each source sums the factors of its parts of the pieces.
 #include "solver/exact_visibility.h"
 
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <numeric>
 #include <vector>
 
+#include "mesh/convex2d.h"
 #include "mesh/polygon_boolean.h"
 #include "solver/form_factor.h"
 
@@ -92,61 +96,6 @@ int corner_verdict(const Triangle& t, std::span<const HalfSpace> region) {
     inside = inside && d0 >= 0 && d1 >= 0 && d2 >= 0;
   }
   return inside ? 1 : 0;
-}
-
-double signed_area(const Loop2d& loop) {
-  double a = 0;
-  for (std::size_t i = 0, n = loop.size(); i < n; ++i) {
-    const Point2d& u = loop[i];
-    const Point2d& w = loop[(i + 1) % n];
-    a += u[0] * w[1] - w[0] * u[1];
-  }
-  return 0.5 * a;
-}
-
-// One Sutherland–Hodgman pass: the first n vertices of `loop` cut to the left of the line a → b
-// (points on it kept), by way of `scratch`, which is swapped with it; returns the count left. Written
-// by index into room made before the pass (with push_back and a modulo per vertex the clip was 7 % of
-// a solve with solver.exact_visibility). A pass adds a vertex per crossing: one net for a convex
-// loop, at most n for any.
-std::size_t clip_pass(Loop2d& loop, std::size_t n, const Point2d& a, const Point2d& b, Loop2d& scratch) {
-  if (scratch.size() < 2 * n) scratch.resize(2 * n);
-  const double ex = b[0] - a[0], ey = b[1] - a[1];
-  auto side = [&](const Point2d& q) { return ex * (q[1] - a[1]) - ey * (q[0] - a[0]); };
-  std::size_t k = 0;
-  const Point2d* u = &loop[n - 1];  // the closing edge first: (loop[n−1], loop[0]) leads the loop
-  double su = side(*u);
-  for (std::size_t i = 0; i < n; ++i) {
-    const Point2d& w = loop[i];
-    const double sw = side(w);
-    if ((su >= 0) != (sw >= 0)) {
-      const double t = su / (su - sw);
-      scratch[k++] = {(*u)[0] + (w[0] - (*u)[0]) * t, (*u)[1] + (w[1] - (*u)[1]) * t};
-    }
-    if (sw >= 0) scratch[k++] = w;
-    u = &w, su = sw;
-  }
-  loop.swap(scratch);
-  return k;
-}
-
-// The part of `subject` inside convex counter-clockwise `clip` (Sutherland–Hodgman, doubles). The
-// subject keeps its orientation; a subject that is not convex may come out with edges doubling back
-// along the clip's boundary, which cancel in a contour sum.
-// The same into `out`, with `scratch` for the passes between: no allocation once they have room.
-void clip_convex_into(std::span<const Point2d> subject, std::span<const Point2d> clip, Loop2d& out, Loop2d& scratch) {
-  if (out.size() < subject.size()) out.resize(subject.size());
-  std::copy(subject.begin(), subject.end(), out.begin());
-  std::size_t n = subject.size();
-  for (std::size_t e = 0, m = clip.size(); e < m && n >= 3; ++e)
-    n = clip_pass(out, n, clip[e], clip[e + 1 < m ? e + 1 : 0], scratch);
-  out.resize(n);
-}
-
-Loop2d clip_convex(const Loop2d& subject, const Loop2d& clip) {
-  Loop2d out, scratch;
-  clip_convex_into(subject, clip, out, scratch);
-  return out;
 }
 
 // Inclusion–exclusion over convex counter-clockwise loops: visit(current, sign), then for every
@@ -216,6 +165,46 @@ struct ExactVisibility::Impl {
   }
   std::vector<int> order;
   std::vector<Node> nodes;
+  // Occluders counted by the cell of their centroid, on a grid of at most 64 cells along the scene's
+  // longest axis, as a summed-volume table ((n + 1)³ entries, 0 on the first plane of each axis):
+  // how many lie in a block of cells is eight look-ups (occluders_near_box).
+  struct Grid {
+    Point3 origin;
+    std::array<double, 3> cell{};
+    std::array<int, 3> n{};
+    std::vector<std::uint32_t> table;
+  } grid;
+
+  void build_grid(const std::vector<Point3>& centroids) {
+    Bounds3 box;
+    for (const Point3& c : centroids) box.add(c);
+    if (box.empty()) return;
+    const Vector3 d = box.diagonal();
+    const double longest = std::max({d.x, d.y, d.z});
+    if (!(longest > 0)) return;
+    for (int a = 0; a < 3; ++a) {
+      grid.n[a] = std::max(1, static_cast<int>(std::ceil(64 * d[a] / longest)));
+      grid.cell[a] = d[a] > 0 ? d[a] / grid.n[a] * (1 + 1e-12) : 1.0;
+    }
+    grid.origin = box.lo;
+    const std::size_t nx = grid.n[0] + 1, ny = grid.n[1] + 1, nz = grid.n[2] + 1;
+    grid.table.assign(nx * ny * nz, 0);
+    for (const Point3& c : centroids) {
+      std::array<std::size_t, 3> i;
+      for (int a = 0; a < 3; ++a)
+        i[a] = 1 + static_cast<std::size_t>(std::clamp(static_cast<int>((c[a] - grid.origin[a]) / grid.cell[a]), 0, grid.n[a] - 1));
+      ++grid.table[(i[2] * ny + i[1]) * nx + i[0]];
+    }
+    for (std::size_t k = 1; k < nz; ++k)  // prefix sums along each axis in turn
+      for (std::size_t j = 1; j < ny; ++j)
+        for (std::size_t i = 1; i < nx; ++i) grid.table[(k * ny + j) * nx + i] += grid.table[(k * ny + j) * nx + i - 1];
+    for (std::size_t k = 1; k < nz; ++k)
+      for (std::size_t j = 1; j < ny; ++j)
+        for (std::size_t i = 1; i < nx; ++i) grid.table[(k * ny + j) * nx + i] += grid.table[(k * ny + j - 1) * nx + i];
+    for (std::size_t k = 1; k < nz; ++k)
+      for (std::size_t j = 1; j < ny; ++j)
+        for (std::size_t i = 1; i < nx; ++i) grid.table[(k * ny + j) * nx + i] += grid.table[((k - 1) * ny + j) * nx + i];
+  }
 
   int build(int first, int count, std::vector<Point3>& centroids) {
     const int index = static_cast<int>(nodes.size());
@@ -334,6 +323,7 @@ ExactVisibility::ExactVisibility(std::span<const Triangle> occluders, std::span<
   impl_->order.resize(impl_->triangles.size());
   std::iota(impl_->order.begin(), impl_->order.end(), 0);
   if (!impl_->triangles.empty()) impl_->build(0, static_cast<int>(impl_->triangles.size()), centroids);
+  impl_->build_grid(centroids);
 }
 
 ExactVisibility::~ExactVisibility() = default;
@@ -400,61 +390,6 @@ int make_cone(const Frame& f, std::array<HalfSpace, 5>& cone) {
 
 constexpr int kNoGroup = std::numeric_limits<int>::min();
 
-double cross2(const Point2d& o, const Point2d& a, const Point2d& b) {
-  return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
-}
-
-// The convex hull of `points` (reordered), counter-clockwise, without collinear or nearly coincident
-// points (Andrew's monotone chain); fewer than 3 points: empty.
-void convex_hull(std::vector<Point2d>& points, std::vector<Point2d>& hull) {
-  hull.clear();
-  std::sort(points.begin(), points.end());
-  points.erase(std::unique(points.begin(), points.end()), points.end());
-  if (points.size() < 3) return;
-  hull.resize(2 * points.size());
-  std::size_t k = 0;
-  for (std::size_t i = 0; i < points.size(); ++i) {  // lower hull
-    while (k >= 2 && cross2(hull[k - 2], hull[k - 1], points[i]) <= 0) --k;
-    hull[k++] = points[i];
-  }
-  for (std::size_t i = points.size() - 1, lower = k + 1; i-- > 0;) {  // upper hull
-    while (k >= lower && cross2(hull[k - 2], hull[k - 1], points[i]) <= 0) --k;
-    hull[k++] = points[i];
-  }
-  hull.resize(k - 1);  // the last point is the first
-  // Vertices within 1e-9 of the hull's size of the one kept before are dropped: as a clipper (in
-  // Shadow::hidden_factor's inclusion–exclusion) an edge whose direction is rounding cuts at a random
-  // angle.
-  const auto distance2 = [](const Point2d& a, const Point2d& b) {
-    return (a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]);
-  };
-  double size2 = 0;
-  for (const Point2d& y : hull) size2 = std::max(size2, distance2(y, hull[0]));
-  std::size_t m = 0;
-  for (const Point2d& y : hull)
-    if (m == 0 || distance2(y, hull[m - 1]) > 1e-18 * size2) hull[m++] = y;
-  while (m > 1 && distance2(hull[m - 1], hull[0]) <= 1e-18 * size2) --m;
-  hull.resize(m);
-  // The chain tests only the turn at its last point. Where two points differ by rounding (one corner
-  // of a shadow reached from two faces), the edge between them has no direction, the turn there is
-  // a coin toss, and once one of them is dropped above the vertex before can be reflex: a plate's
-  // shadow (two pairs of its points 2e-16 apart) came out pinched, hiding 60 % less at that node.
-  // So every vertex where the boundary does not turn left is dropped, until none is left.
-  for (bool dropped = true; dropped && hull.size() >= 3;) {
-    dropped = false;
-    for (std::size_t i = 0; i < hull.size() && hull.size() >= 3;) {
-      const std::size_t size = hull.size();
-      if (cross2(hull[(i + size - 1) % size], hull[i], hull[(i + 1) % size]) <= 0) {
-        hull.erase(hull.begin() + static_cast<std::ptrdiff_t>(i));
-        dropped = true;
-      } else {
-        ++i;
-      }
-    }
-  }
-  if (hull.size() < 3) hull.clear();
-}
-
 }  // namespace
 
 ExactVisibility::VisibleRegion ExactVisibility::visible_region(const Point3& p_world, const Vector3& n,
@@ -505,23 +440,43 @@ ExactVisibility::VisibleRegion ExactVisibility::visible_region(const Point3& p_w
   if (count) occluded_.fetch_add(1, std::memory_order_relaxed);
   booleans_.fetch_add(1, std::memory_order_relaxed);
   // A few shadows (the usual case: a box seen from a point casts two to six): inclusion–exclusion over
-  // convex intersections in doubles, with no Boolean operation; many: CGAL's exact difference, whose
-  // cost does not grow as 2^k.
+  // convex intersections; many: the source peeled shadow by shadow into disjoint convex pieces, whose
+  // cost does not grow as 2^k. Both in doubles; CGAL's exact difference where the caller asks for it.
+  // Both clip by the shadows' edges: corners that the cone's clip left nearly coincident would give
+  // an edge of no direction, which cut at random (a source taken as wholly hidden where a third of it
+  // was seen), so each shadow is made strictly convex first.
+  for (Loop2d& shadow : shadows) {
+    if (signed_area(shadow) < 0) std::reverse(shadow.begin(), shadow.end());
+    tidy_convex(shadow);
+  }
+  std::erase_if(shadows, [](const Loop2d& shadow) { return shadow.empty(); });
+  const double negligible = 1e-15 * std::abs(signed_area(source));
   if (shadows.size() <= static_cast<std::size_t>(inclusion_exclusion_limit_)) {
-    for (Loop2d& shadow : shadows)
-      if (signed_area(shadow) < 0) std::reverse(shadow.begin(), shadow.end());
     // S ∖ ∪A_k as signed convex loops: negative terms stored clockwise, so the contour sum subtracts them.
     std::vector<Loop2d> level(shadows.size());
     Loop2d scratch;
     inclusion_exclusion(
         shadows.size(), [&](std::size_t k) { return std::span<const Point2d>(shadows[k]); }, source, 0, 1.0,
-        1e-15 * std::abs(signed_area(source)), level, 0, scratch, [&](const Loop2d& loop, double sign) {
+        negligible, level, 0, scratch, [&](const Loop2d& loop, double sign) {
           out.loops_.push_back(loop);
           if (sign < 0) std::reverse(out.loops_.back().begin(), out.loops_.back().end());
         });
     return out;
   }
-  out.loops_ = convex_difference(source, shadows);
+  if (beyond_ == Beyond::kCgalBooleans) {
+    out.loops_ = convex_difference(source, shadows);
+    return out;
+  }
+  // Larger shadows first: the source shrinks fastest, and later shadows mostly miss what is left.
+  std::sort(shadows.begin(), shadows.end(),
+            [](const Loop2d& a, const Loop2d& b) { return signed_area(a) > signed_area(b); });
+  thread_local ConvexPieces cutters, pieces;
+  thread_local ConvexScratch scratch;
+  cutters.clear();
+  for (const Loop2d& shadow : shadows)
+    if (shadow.size() >= 3 && signed_area(shadow) > negligible) cutters.add(shadow);
+  convex_difference_pieces(source, cutters, negligible, pieces, scratch);
+  for (std::size_t i = 0; i < pieces.size(); ++i) out.loops_.emplace_back(pieces[i].begin(), pieces[i].end());
   return out;
 }
 
@@ -600,9 +555,7 @@ double ExactVisibility::visible_factor(const Point3& p, const Vector3& n, const 
 
 void ExactVisibility::shadow(const Point3& p_world, const Vector3& n, const Triangle& carrier_world,
                              std::span<const int> candidates, Shadow& out) const {
-  out.formed_ = true;
-  out.vertices_.clear();
-  out.start_.assign(1, 0);
+  out.pieces_.clear();
   out.bounds_.clear();
   const Vector3 shift = to_vector(impl_->centre);
   Frame f;
@@ -615,10 +568,10 @@ void ExactVisibility::shadow(const Point3& p_world, const Vector3& n, const Tria
   out.e1_ = normalize(f.S.v[1] - s0);
   out.e2_ = cross(f.ns, out.e1_);
   out.to_origin_ = s0 - f.p;
-  // The projected parts' corners, by group (at most Shadow::kMaxGroups of them).
-  thread_local std::array<std::vector<Point2d>, Shadow::kMaxGroups> points;
-  std::array<int, Shadow::kMaxGroups> group_of{};
-  int groups = 0;
+  // The projected parts' corners, by group.
+  thread_local std::vector<std::vector<Point2d>> points;
+  thread_local std::vector<int> group_of;
+  group_of.clear();
   thread_local ClipBuffers buffers;
   for (const int k : candidates) {
     if (impl_->verdict(k, f.p, f.S, f.region) < 0) continue;
@@ -633,33 +586,61 @@ void ExactVisibility::shadow(const Point3& p_world, const Vector3& n, const Tria
     }
     if (!(length(twice_area) > 1e-12 * extent)) continue;
     const int g = impl_->group(k, f.p, f.S);
-    int slot = 0;
-    while (slot < groups && group_of[slot] != g) ++slot;
-    if (slot == groups) {
-      if (groups == Shadow::kMaxGroups) {
-        out.formed_ = false;  // too many to unite per source: each source takes hidden_factor
-        return;
-      }
-      group_of[groups++] = g;
+    // The candidates of one convex solid are mostly consecutive: look back from the last group.
+    std::size_t slot = group_of.size();
+    while (slot > 0 && group_of[slot - 1] != g) --slot;
+    if (slot == 0) {
+      slot = group_of.size();
+      group_of.push_back(g);
+      if (points.size() <= slot) points.resize(slot + 1);
       points[slot].clear();
+    } else {
+      --slot;
     }
     for (const Point3& q : part) {
       const Point3 y = f.p + (q - f.p) * (f.h / (f.h - dot(f.ns, q - s0)));
       points[slot].push_back({dot(y - s0, out.e1_), dot(y - s0, out.e2_)});
     }
   }
-  if (groups == 0) return;
+  if (group_of.empty()) return;
   occluded_.fetch_add(1, std::memory_order_relaxed);
+  // Each group's shadow is the convex hull of its parts' projections. Several groups' shadows may
+  // overlap: they are united once here, as disjoint convex pieces (larger shadows first, so that
+  // smaller ones inside them vanish whole), and each source then sums its parts of the pieces.
   thread_local std::vector<Point2d> hull;
-  for (int slot = 0; slot < groups; ++slot) {
+  thread_local ConvexPieces hulls, sorted, united;
+  thread_local std::vector<Point2d> piece;
+  thread_local std::vector<std::pair<double, int>> by_area;
+  thread_local ConvexScratch scratch;
+  hulls.clear();
+  by_area.clear();
+  for (std::size_t slot = 0; slot < group_of.size(); ++slot) {
     convex_hull(points[slot], hull);
     if (hull.size() < 3) continue;
+    by_area.emplace_back(-signed_area(hull), static_cast<int>(hulls.size()));
+    hulls.add(hull);
+  }
+  if (hulls.size() > 1) {
+    std::sort(by_area.begin(), by_area.end());
+    sorted.clear();
+    for (const auto& [area, i] : by_area) sorted.add(hulls[static_cast<std::size_t>(i)]);
+    // The pieces' edges clip the sources (hidden_factor): corners that a cut through a hull's corner
+    // left nearly coincident would give an edge of no direction, which cut them at random.
+    convex_union_pieces(sorted, 1e-15 * carrier_world.area(), united, scratch);
+    out.pieces_.clear();
+    for (std::size_t i = 0; i < united.size(); ++i) {
+      piece.assign(united[i].begin(), united[i].end());
+      tidy_convex(piece);
+      if (!piece.empty()) out.pieces_.add(piece);
+    }
+  } else {
+    out.pieces_ = hulls;
+  }
+  for (std::size_t i = 0; i < out.pieces_.size(); ++i) {
     Shadow::Bounds b{{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()},
                      {-std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()}};
-    for (const Point2d& y : hull)
+    for (const Point2d& y : out.pieces_[i])
       for (int a = 0; a < 2; ++a) b.lo[a] = std::min(b.lo[a], y[a]), b.hi[a] = std::max(b.hi[a], y[a]);
-    out.vertices_.insert(out.vertices_.end(), hull.begin(), hull.end());
-    out.start_.push_back(static_cast<int>(out.vertices_.size()));
     out.bounds_.push_back(b);
   }
 }
@@ -676,21 +657,27 @@ double ExactVisibility::Shadow::hidden_factor(const Triangle& part) const {
     for (int a = 0; a < 2; ++a) lo[a] = std::min(lo[a], c[k][a]), hi[a] = std::max(hi[a], c[k][a]);
   }
   if (cross2(c[0], c[1], c[2]) < 0) std::swap(c[1], c[2]);
-  // Each group's shadow cut to the part. The part's corners against the shadow's edges first: outside
-  // one edge, all three, and the part lies beyond it; inside every edge, and it is all hidden (convex:
-  // its corners are). Otherwise the part is clipped by the edges that have a corner outside (the
-  // others hold all of it): a patch against a larger shadow meets one or two of them, where the
-  // shadow clipped by the part's three edges took three passes over all its corners (41 % of the
-  // time of a patch across a shadow's edge, tests/kernels_benchmark.cpp).
-  thread_local std::array<Loop2d, kMaxGroups> clipped;
-  std::array<std::size_t, kMaxGroups> group{};  // of each clipped loop
-  thread_local Loop2d scratch;
-  constexpr std::size_t kMaxCuttingEdges = 16;  // beyond: the shadow clipped by the part, as before
-  std::size_t kept = 0;
+  // The contour sum over a loop, each vertex relative to p.
+  const auto factor = [&](std::span<const Point2d> loop) {
+    thread_local std::vector<Point3> points;
+    points.clear();
+    for (const Point2d& y : loop) points.push_back(Point3{} + (to_origin_ + e1_ * y[0] + e2_ * y[1]));
+    return std::abs(point_boundary_factor(Point3{}, n_, points));
+  };
+  // Each piece cut to the part; the pieces are disjoint, so their parts' factors add up. The part's
+  // corners against the piece's edges first: outside one edge, all three, and the part lies beyond
+  // it; inside every edge, and it is all hidden (convex: its corners are). Otherwise the part is
+  // clipped by the edges that have a corner outside (the others hold all of it): a patch against a
+  // larger shadow meets one or two of them, where the shadow clipped by the part's three edges took
+  // three passes over all its corners (41 % of the time of a patch across a shadow's edge,
+  // tests/kernels_benchmark.cpp).
+  thread_local Loop2d loop, scratch;
+  constexpr std::size_t kMaxCuttingEdges = 16;  // beyond: the piece clipped by the part
+  double hidden = 0;
   for (std::size_t i = 0; i < count; ++i) {
     const Bounds& b = bounds_[i];
     if (lo[0] >= b.hi[0] || hi[0] <= b.lo[0] || lo[1] >= b.hi[1] || hi[1] <= b.lo[1]) continue;
-    const std::span<const Point2d> polygon(vertices_.data() + start_[i], vertices_.data() + start_[i + 1]);
+    const std::span<const Point2d> polygon = pieces_[i];
     const std::size_t m = polygon.size();
     std::array<int, kMaxCuttingEdges> cutting;
     std::size_t cuts = 0;
@@ -707,7 +694,6 @@ double ExactVisibility::Shadow::hidden_factor(const Triangle& part) const {
     }
     if (apart) continue;
     if (cuts == 0) return std::numeric_limits<double>::infinity();
-    Loop2d& loop = clipped[kept];
     if (many) {
       clip_convex_into(polygon, c, loop, scratch);
     } else {
@@ -720,33 +706,9 @@ double ExactVisibility::Shadow::hidden_factor(const Triangle& part) const {
       }
       loop.resize(n);
     }
-    if (loop.size() >= 3) group[kept++] = i;
+    if (loop.size() >= 3) hidden += factor(loop);
   }
-  if (kept == 0) return 0;
-  // The contour sum over a loop, each vertex relative to p.
-  const auto factor = [&](const Loop2d& loop) {
-    thread_local std::vector<Point3> points;
-    points.clear();
-    for (const Point2d& y : loop) points.push_back(Point3{} + (to_origin_ + e1_ * y[0] + e2_ * y[1]));
-    return std::abs(point_boundary_factor(Point3{}, n_, points));
-  };
-  if (kept == 1) return factor(clipped[0]);
-  // Shadows of several groups may overlap: the factor of their union within the part. The clipped
-  // loops are intersected with the other groups' shadows themselves, not with their clipped loops,
-  // whose vertices on the part's edges can be nearly coincident.
-  const double negligible = 1e-15 * std::abs(cross2(c[0], c[1], c[2]));
-  thread_local std::vector<Loop2d> level;
-  if (level.size() < kept) level.resize(kept);
-  const auto shadow_of = [&](std::size_t k) {
-    return std::span<const Point2d>(vertices_.data() + start_[group[k]], vertices_.data() + start_[group[k] + 1]);
-  };
-  // F(∪_i Q_i) = Σ over nonempty K of (−1)^(|K|+1) F(∩_K Q), taken as each Q_i (sign +1) with its
-  // intersections with the shadows A_j of the groups after i (Q_i lies in the part: Q_i ∩ A_j = Q_i ∩ Q_j).
-  double hidden = 0;
-  const auto add = [&](const Loop2d& loop, double sign) { hidden += sign * factor(loop); };
-  for (std::size_t i = 0; i < kept; ++i)
-    inclusion_exclusion(kept, shadow_of, clipped[i], i + 1, 1.0, negligible, level, 0, scratch, add);
-  return std::max(0.0, hidden);
+  return hidden;
 }
 
 namespace {
@@ -805,5 +767,25 @@ void ExactVisibility::shaft_occluders(std::span<const Point3> points, std::vecto
     return false;
   });
 }
+
+std::size_t ExactVisibility::occluders_near_box(const Bounds3& box) const {
+  const Impl::Grid& g = impl_->grid;
+  if (g.table.empty()) return 0;
+  const Vector3 shift = to_vector(impl_->centre);
+  std::array<int, 3> lo, hi;
+  for (int a = 0; a < 3; ++a) {
+    const auto cell = [&](double x) {
+      return std::clamp(static_cast<int>(std::floor((x - g.origin[a]) / g.cell[a])), 0, g.n[a] - 1);
+    };
+    lo[a] = cell((box.lo - shift)[a]) - 1, hi[a] = cell((box.hi - shift)[a]);  // the table is 1-based
+  }
+  const auto at = [&](int i, int j, int k) {
+    return g.table[(static_cast<std::size_t>(k + 1) * (g.n[1] + 1) + (j + 1)) * (g.n[0] + 1) + (i + 1)];
+  };
+  return at(hi[0], hi[1], hi[2]) - at(lo[0], hi[1], hi[2]) - at(hi[0], lo[1], hi[2]) - at(hi[0], hi[1], lo[2]) +
+         at(lo[0], lo[1], hi[2]) + at(lo[0], hi[1], lo[2]) + at(hi[0], lo[1], lo[2]) - at(lo[0], lo[1], lo[2]);
+}
+
+std::size_t ExactVisibility::occluders() const { return impl_->triangles.size(); }
 
 }  // namespace lambert

@@ -2,16 +2,16 @@
 //
 // Where rays find a source partly occluded, the factor of the part that is visible is computed
 // exactly: every occluding triangle between the point and the source's plane is projected centrally
-// from the point onto that plane, the projections are united and subtracted from the source polygon
-// with CGAL's 2D Boolean operations (exact predicates and constructions) — or, for a few shadows, by
-// inclusion–exclusion over their convex intersections — and the point-to-polygon contour integral is
-// summed over the visible pieces and their holes. So E = π L F(visible part) holds
-// to round-off, for any number and shape of occluders (the CIE 171 case 5.7 geometry, REFERENCES V9).
+// from the point onto that plane, the projections are subtracted from the source polygon — for a few
+// shadows by inclusion–exclusion over their convex intersections, for more by peeling the source
+// shadow by shadow into disjoint convex pieces (mesh/convex2d.h) — and the point-to-polygon contour
+// integral is summed over what is left. So E = π L F(visible part) holds to round-off, for any number
+// and shape of occluders (the CIE 171 case 5.7 geometry, REFERENCES V9). CGAL's exact 2D Booleans
+// (mesh/polygon_boolean.h) do the same subtraction with exact constructions; the tests hold the
+// double-precision ways to them (set_inclusion_exclusion_limit).
 // Where only one triangle or one convex solid occludes, the hidden factor is summed over its front
 // faces' parts in the cone over the source, with no union (hidden_factor, Shadow).
 // Rays remain the fast path for wholly visible and wholly hidden sources; this is for the rest.
-//
-// The Boolean operations are CGAL's, behind mesh/polygon_boolean.h.
 #pragma once
 
 #include <atomic>
@@ -20,6 +20,7 @@
 #include <span>
 #include <vector>
 
+#include "mesh/convex2d.h"
 #include "mesh/geometry.h"
 #include "mesh/polygon_boolean.h"
 
@@ -89,31 +90,28 @@ class ExactVisibility {
   // holding p and the carrier), falls into groups: the front faces of one convex solid, or one
   // triangle. Each group's shadow is one convex polygon, the projection of its parts inside the cone
   // from p over the carrier; where several groups hide something, their shadows (which may overlap)
-  // are united within each source by inclusion–exclusion. Where more than kMaxGroups do, it is not
-  // formed, and hidden_factor serves each source.
+  // are united once, as disjoint convex pieces (mesh/convex2d.h), and each source sums its parts of
+  // them.
   class Shadow {
    public:
-    // Groups whose shadows one Shadow unites; with more in front of the carrier it is not formed.
-    static constexpr int kMaxGroups = 8;
-    bool formed() const { return formed_; }
-    // hidden_factor(p, n, part) for a triangle `part` inside the carrier; +∞ where one group's shadow
-    // covers all of it (the factor hidden is then point_triangle_factor(p, n, part), which the caller
-    // usually has: no contour sum is spent on it).
+    // hidden_factor(p, n, part) for a triangle `part` inside the carrier; +∞ where one piece of the
+    // shadow covers all of it (the factor hidden is then point_triangle_factor(p, n, part), which the
+    // caller usually has: no contour sum is spent on it).
     double hidden_factor(const Triangle& part) const;
+    // How many disjoint convex pieces the shadow is made of (0: nothing hides any of the carrier).
+    std::size_t pieces() const { return pieces_.size(); }
 
    private:
     friend class ExactVisibility;
     struct Bounds {
       Point2d lo, hi;
     };
-    bool formed_ = false;
     Point3 origin_;               // the carrier's first corner, in metres
     Vector3 n_, e1_, e2_;         // the receiver's normal; the carrier's plane's axes
     Vector3 to_origin_;           // origin_ − p
-    // Per group that hides something: its shadow, a convex polygon counter-clockwise in (e1_, e2_)
-    // about origin_ (vertices_[start_[i], start_[i + 1])), and its bounding box.
-    std::vector<Point2d> vertices_;
-    std::vector<int> start_;
+    // The union of the groups' shadows as disjoint convex polygons, counter-clockwise in (e1_, e2_)
+    // about origin_, and their bounding boxes.
+    ConvexPieces pieces_;
     std::vector<Bounds> bounds_;
   };
   // Forms `out` (its storage reused) for p, normal n and the carrier.
@@ -130,16 +128,29 @@ class ExactVisibility {
   // The occluders that shaft_is_clear would find in the hull (their indices, in `out`): every one that
   // can hide any part of one element from any point of the other.
   void shaft_occluders(std::span<const Point3> points, std::vector<int>& out) const;
+  // About how many occluders lie near `box`, in constant time: those whose centroids lie in the cells
+  // of a grid over the scene (64 cells along its longest axis) that the box meets. At least the
+  // occluders whose centroids lie in the box, at most those within one cell of it: an estimate of
+  // what a shaft inside the box may hold, for budgets, not a bound.
+  std::size_t occluders_near_box(const Bounds3& box) const;
+  // The number of occluders (input triangles of some area).
+  std::size_t occluders() const;
 
   // Number of visible_factor evaluations that found something occluding, and of those that needed
   // the shadows' union (visible_region: several occluders whose directions may overlap).
   std::uint64_t occluded_evaluations() const { return occluded_.load(std::memory_order_relaxed); }
   std::uint64_t boolean_evaluations() const { return booleans_.load(std::memory_order_relaxed); }
 
-  // Up to this many shadows, the visible part is formed by inclusion–exclusion over convex
-  // intersections (2^k terms at most, in doubles); beyond it by CGAL's exact Boolean difference. Both
-  // give the same factor (tests/exact_visibility_test.cpp); 0 forces the Boolean operations.
-  void set_inclusion_exclusion_limit(int shadows) { inclusion_exclusion_limit_ = shadows; }
+  // How visible_region unites the shadows of several occluders: up to `shadows` of them by
+  // inclusion–exclusion over their convex intersections (2^k terms at most), beyond that by peeling
+  // the source shadow by shadow into disjoint convex pieces (mesh/convex2d.h), both in doubles; or,
+  // beyond it, by CGAL's exact Boolean difference (mesh/polygon_boolean.h). All give the same factor
+  // to round-off (tests/exact_visibility_test.cpp).
+  enum class Beyond { kConvexPieces, kCgalBooleans };
+  void set_inclusion_exclusion_limit(int shadows, Beyond beyond = Beyond::kConvexPieces) {
+    inclusion_exclusion_limit_ = shadows;
+    beyond_ = beyond;
+  }
 
  private:
   VisibleRegion visible_region(const Point3& p, const Vector3& n, const Triangle& source, bool count) const;
@@ -151,6 +162,7 @@ class ExactVisibility {
   std::unique_ptr<Impl> impl_;
   mutable std::atomic<std::uint64_t> occluded_{0}, booleans_{0};
   int inclusion_exclusion_limit_ = 8;
+  Beyond beyond_ = Beyond::kConvexPieces;
 };
 
 }  // namespace lambert

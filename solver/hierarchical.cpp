@@ -21,6 +21,7 @@
 #include <limits>
 #include <map>
 #include <set>
+#include <tuple>
 
 #include "mesh/mesh_ops.h"
 #include "solver/cubature.h"
@@ -140,6 +141,9 @@ static_assert(sizeof(LeafLink) == 12);
 constexpr unsigned char kVisibilityUnknown = 0;  // partly hidden by its rays (or not yet traced)
 constexpr unsigned char kShaftClear = 1;         // no occluder in the pair's hull: wholly visible
 constexpr unsigned char kRaysUnanimous = 2;      // every ray of it was unobstructed
+// What a leaf of the final gather takes from a link whose rays were unanimous and whose shaft holds
+// too many occluders for exact visibility (LeafGather::mark_crowded_links): wholly visible, as by default.
+constexpr unsigned char kRaysTrusted = 3;
 
 // A link into a cluster of roots whose normals all face the source (Refiner::refine_pair): it adds
 // Ψ × `toward` to the cluster's vector irradiance V, Ψ being the irradiance on a surface facing the
@@ -1388,12 +1392,15 @@ class Refiner {
 // and each leaf link whose visibility is not proven is evaluated exactly, with no ray: the occluders
 // in the shaft between the leaf and the input triangle its source was cut from
 // (ExactVisibility::shaft_occluders; none: wholly visible), and at each node of the leaf's rule the
-// factor they hide (their shadow on that triangle's plane, ExactVisibility::Shadow, or
-// ExactVisibility::hidden_factor where several groups of occluders overlap). The raw closure error of the
+// factor they hide (their shadow on that triangle's plane, ExactVisibility::Shadow). Links whose
+// pair's box holds too many occluders are crowded (mark_crowded_links): they stay as by default (the
+// partly hidden keep their rays' estimate, the hidden stay hidden, the unanimous are trusted), which
+// bounds the work where many occluders stand between many patches (a city block: 133 s, against
+// more than 15 minutes while every link was evaluated exactly). The raw closure error of the
 // room with a floating cube (18 176 patches): 2.1 % before the gather, 1.6 % after it by default (the
 // partly hidden links stay), 2e-6 with retrace, as in the room without the cube; with the leaf's own
 // 16 rays in place of the exact evaluation it was 7e-4 (rays that agreed by chance), and 1.7e-4 with
-// the leaf-wide rule in place of leaf_rule's pieces. Retrace costs about 1.4 × the time there.
+// the leaf-wide rule in place of leaf_rule's pieces. Retrace costs about 1.6 × the time there.
 //
 // Memory and time grow with the leaf links, about 10 per expanded link in the rooms of
 // docs/BENCHMARKS.md; a scene whose leaf links would exceed the budget keeps its links.
@@ -1401,6 +1408,15 @@ constexpr double kLeafFarField = 4;        // the rule alone beyond this many le
 constexpr int kMaxCuttingPlanes = 3;       // planes that divide a leaf's rule (LeafGather::leaf_pieces)
 constexpr double kRuleTolerance = 1e-5;    // of a row, from its near sources (LeafGather::gather_leaf)
 constexpr int kRuleLevels = 3;             // times gather_leaf may split the pieces near them
+// With exact visibility, links near whose boxes lie more than kExactOccluders occluders, in a scene of
+// more than kSmallScene, keep their rays' estimate, as every link does by default
+// (LeafGather::mark_crowded_links): the exact gather projects each occluder at every node of every
+// leaf below, and across a city block (22 082 occluders), where such shafts hold hundreds, that was
+// more than 15 minutes of work for far links whose rays are accurate enough (133 s in all with
+// these limits, 31 s by default; 54 s with 32 occluders, whose results differ from these by 0.18 %
+// rms, 46 s with 24). A room with up to a few dozen floating boxes is gathered exactly everywhere.
+constexpr std::size_t kExactOccluders = 48;
+constexpr std::size_t kSmallScene = 256;
 constexpr double kRuleSplitDistance = kLeafFarField;  // pieces this near a near source are split (radii)
 // The budget of leaf links: at most this many per link of the refinement or per patch, whichever is
 // more, and kMaxLeafLinks in all (28 bytes each as the threads form them, copied block by block
@@ -1458,6 +1474,11 @@ class LeafGather {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, h_.cluster_links.size(), 16), [&](const auto& range) {
       for (std::size_t l = range.begin(); l != range.end(); ++l) cluster_link_expands_[l] = expands(h_.cluster_links[l]);
     });
+    if (retrace_) {
+      mark_crowded_links();
+      for (std::size_t l = 0; l < h_.cluster_links.size(); ++l)
+        if (crowded_.cluster[l]) cluster_link_expands_[l] = 0;
+    }
     std::size_t n = count();
     if (n > budget && clustered_hidden_) {  // without the hidden links from and into clusters
       clustered_hidden_ = false;
@@ -1490,7 +1511,7 @@ class LeafGather {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, h_.elements.size(), 1024), [&](const auto& range) {
       for (std::size_t e = range.begin(); e != range.end(); ++e)
         for (std::size_t l = h_.link_start[e]; l < h_.link_start[e + 1]; ++l)
-          if (expanded(h_.links[l], static_cast<int>(e))) h_.links[l].source = kReplaced;
+          if (expanded(h_.links[l], l, static_cast<int>(e))) h_.links[l].source = kReplaced;
     });
     merge_rechecked(h_.links, {});  // drops the expanded ones
     // The leaf links, compact (LeafLink): blocks in element order, each receiver's links by source.
@@ -1533,10 +1554,11 @@ class LeafGather {
         [&](const auto& range, std::size_t sum) {
           for (std::size_t e = range.begin(); e != range.end(); ++e) {
             for (std::size_t l = h_.link_start[e]; l < h_.link_start[e + 1]; ++l)
-              if (expanded(h_.links[l], static_cast<int>(e))) sum += leaves_below_[e] * sources_of(h_.links[l], static_cast<int>(e));
+              if (expanded(h_.links[l], l, static_cast<int>(e)))
+                sum += leaves_below_[e] * sources_of(h_.links[l], l, static_cast<int>(e));
             if (retrace_)
               for (std::size_t l = h_.hidden_start[e]; l < h_.hidden_start[e + 1]; ++l)
-                sum += leaves_below_[e] * sources_of_hidden(h_.hidden_links[l]).size();
+                sum += leaves_below_[e] * sources_of_hidden(l).size();
           }
           return sum;
         },
@@ -1545,7 +1567,9 @@ class LeafGather {
       if (cluster_link_expands_[l])
         n += cluster_leaves(h_.cluster_links[l].receiver) * roots_of(h_.cluster_links[l]);
     if (retrace_ && clustered_hidden_)
-      for (const ClusterLink& l : h_.hidden_cluster_links) n += cluster_leaves(l.receiver) * roots_of(l);
+      for (std::size_t l = 0; l < h_.hidden_cluster_links.size(); ++l)
+        if (!crowded_.hidden_cluster[l])
+          n += cluster_leaves(h_.hidden_cluster_links[l].receiver) * roots_of(h_.hidden_cluster_links[l]);
     return n;
   }
 
@@ -1560,21 +1584,87 @@ class LeafGather {
   // 1; links from small clusters: their roots. With retrace, all of those; by default only where the
   // visibility is certain for every leaf below (element links: its verdict, or the occluder planes;
   // links from clusters, whose rays are cast to the cluster as a whole: the planes, root by root).
-  std::size_t sources_of(const Link& l, int receiver) const {
+  // Link l, h_.links[index] at `receiver`; with retrace, links whose shaft is crowded (keeps_rays)
+  // are treated as by default.
+  std::size_t sources_of(const Link& l, std::size_t index, int receiver) const {
+    const bool exact = retrace_ && !keeps_rays(index);
     if (!l.from_cluster)
-      return retrace_ || l.bin[2] == kShaftClear || l.bin[2] == kRaysUnanimous || clear(receiver, l.source) ? 1 : 0;
+      return exact || l.bin[2] == kShaftClear || l.bin[2] == kRaysUnanimous || clear(receiver, l.source) ? 1 : 0;
     const auto roots = small_cluster(l.source);
     if (roots.empty()) return 0;
-    if (!retrace_)
+    if (!exact)
       for (int r : roots)
         if (!clear(receiver, r)) return 0;
     return roots.size();
   }
-  // The element sources of a link that the refinement's rays found hidden: its source, or the roots
-  // of a small cluster (links from larger ones are not kept: Refiner::keeps_hidden).
-  std::span<const int> sources_of_hidden(const Link& l) const {
+  // The element sources of h_.hidden_links[index], which the refinement's rays found hidden: its
+  // source, or the roots of a small cluster (links from larger ones are not kept:
+  // Refiner::keeps_hidden); none where its shaft is crowded (it stays hidden, as by default).
+  std::span<const int> sources_of_hidden(std::size_t index) const {
+    const Link& l = h_.hidden_links[index];
+    if (crowded_.hidden[index]) return {};
     if (!l.from_cluster) return {&l.source, 1};
     return clustered_hidden_ ? small_cluster(l.source) : std::span<const int>{};
+  }
+  // The verdict a leaf takes from element link h_.links[index]: with retrace, rays found unanimous
+  // are trusted only where the shaft is crowded.
+  unsigned char verdict_of(const Link& l, std::size_t index) const {
+    return retrace_ && crowded_.link[index] && l.bin[2] == kRaysUnanimous ? kRaysTrusted : l.bin[2];
+  }
+  bool keeps_rays(std::size_t index) const { return crowded_.link[index]; }
+
+  // With retrace, whether many occluders may stand between a link's two ends: more than
+  // kExactOccluders near the box of its receiver and source, which holds its shaft
+  // (ExactVisibility::occluders_near_box, constant time: a city block has 31 M links and hidden
+  // links, which took 20–60 µs each to count by their shafts). A link's box holds more than its shaft
+  // does (the box of a link along a street takes in the buildings beside it).
+  Bounds3 box_of(int element) const { return bounds(h_.elements[element].tri); }
+  bool crowded(const Bounds3& receiver, const Bounds3& source) const {
+    Bounds3 box = receiver;
+    box.add(source.lo), box.add(source.hi);
+    return exact_.occluders_near_box(box) > kExactOccluders;
+  }
+  bool crowded(const Link& l) const {
+    return crowded(box_of(l.receiver), l.from_cluster ? h_.clusters[l.source].box : box_of(l.source));
+  }
+  bool crowded(const ClusterLink& l) const {
+    return crowded(h_.clusters[l.receiver].box, l.from_cluster ? h_.clusters[l.source].box : box_of(l.source));
+  }
+
+ public:
+  // How many links (refinement links and links into clusters, and those found hidden) keep their
+  // rays' estimate or stay hidden, their shafts crowded (with retrace; 0 otherwise).
+  std::size_t crowded_links() const {
+    const auto ones = [](const std::vector<char>& v) { return static_cast<std::size_t>(std::count(v.begin(), v.end(), 1)); };
+    return ones(crowded_.link) + ones(crowded_.hidden) + ones(crowded_.hidden_cluster) + ones(crowded_.cluster);
+  }
+
+ private:
+  // With retrace: which links are crowded, among those that the gather would evaluate exactly (the
+  // others' visibility is proven). In a scene of at most kSmallScene occluders, none.
+  void mark_crowded_links() {
+    crowded_.link.assign(h_.links.size(), 0);
+    crowded_.hidden.assign(h_.hidden_links.size(), 0);
+    crowded_.hidden_cluster.assign(h_.hidden_cluster_links.size(), 0);
+    crowded_.cluster.assign(h_.cluster_links.size(), 0);
+    if (exact_.occluders() <= kSmallScene) return;
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, h_.elements.size(), 256), [&](const auto& range) {
+      for (std::size_t e = range.begin(); e != range.end(); ++e) {
+        for (std::size_t l = h_.link_start[e]; l < h_.link_start[e + 1]; ++l) {
+          const Link& link = h_.links[l];
+          if (!link.from_cluster && (link.bin[2] == kShaftClear || clear(static_cast<int>(e), link.source))) continue;
+          crowded_.link[l] = crowded(link);
+        }
+        for (std::size_t l = h_.hidden_start[e]; l < h_.hidden_start[e + 1]; ++l) crowded_.hidden[l] = crowded(h_.hidden_links[l]);
+      }
+    });
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, h_.cluster_links.size(), 16), [&](const auto& range) {
+      for (std::size_t l = range.begin(); l != range.end(); ++l)
+        crowded_.cluster[l] = cluster_link_expands_[l] && crowded(h_.cluster_links[l]);
+    });
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, h_.hidden_cluster_links.size(), 16), [&](const auto& range) {
+      for (std::size_t l = range.begin(); l != range.end(); ++l) crowded_.hidden_cluster[l] = crowded(h_.hidden_cluster_links[l]);
+    });
   }
   std::size_t roots_of(const ClusterLink& l) const { return l.from_cluster ? small_cluster(l.source).size() : 1; }
   bool expands(const ClusterLink& l) const {
@@ -1599,10 +1689,10 @@ class LeafGather {
   // Whether link l at `receiver` is replaced by leaf links: it expands, unless it is a leaf's own
   // element link, which is a leaf link already (the refiner gave it the exact mean over the leaf) —
   // with retrace, one whose visibility is not proven is formed again, its visibility evaluated.
-  bool expanded(const Link& l, int receiver) const {
-    if (sources_of(l, receiver) == 0) return false;
+  bool expanded(const Link& l, std::size_t index, int receiver) const {
+    if (sources_of(l, index, receiver) == 0) return false;
     if (h_.elements[receiver].leaf < 0 || l.from_cluster) return true;
-    return retrace_ && l.bin[2] != kShaftClear && !clear(receiver, l.source);
+    return retrace_ && !keeps_rays(index) && l.bin[2] != kShaftClear && !clear(receiver, l.source);
   }
 
   // The leaf links of root block r, in element order, each leaf's sorted by source.
@@ -1620,7 +1710,7 @@ class LeafGather {
         if (cluster_link_expands_[l]) add_sources(h_.cluster_links[l]);
       if (retrace_ && clustered_hidden_)
         for (std::size_t l = h_.hidden_cluster_start[c]; l < h_.hidden_cluster_start[c + 1]; ++l)
-          add_sources(h_.hidden_cluster_links[l]);
+          if (!crowded_.hidden_cluster[l]) add_sources(h_.hidden_cluster_links[l]);
     }
     std::vector<Entry> entries;
     std::vector<Link> row;
@@ -1630,14 +1720,14 @@ class LeafGather {
       for (int p = e; p >= 0; p = h_.elements[p].parent) {
         for (std::size_t l = h_.link_start[p]; l < h_.link_start[p + 1]; ++l) {
           const Link& link = h_.links[l];
-          if (!expanded(link, p)) continue;
-          if (!link.from_cluster) entries.push_back({link.source, link.bin[2]});
+          if (!expanded(link, l, p)) continue;
+          if (!link.from_cluster) entries.push_back({link.source, verdict_of(link, l)});
           for (int s : link.from_cluster ? small_cluster(link.source) : std::span<const int>{})
             entries.push_back({s, kVisibilityUnknown});
         }
         if (retrace_)
           for (std::size_t l = h_.hidden_start[p]; l < h_.hidden_start[p + 1]; ++l)
-            for (int s : sources_of_hidden(h_.hidden_links[l])) entries.push_back({s, kVisibilityUnknown});
+            for (int s : sources_of_hidden(l)) entries.push_back({s, kVisibilityUnknown});
       }
       row.clear();
       gather_leaf(e, entries, row, stats);
@@ -1777,7 +1867,7 @@ class LeafGather {
     if (retrace_) {
       for (std::size_t l = h_.link_start[e]; l < h_.link_start[e + 1]; ++l) {
         const Link& link = h_.links[l];
-        if (link.from_cluster || expanded(link, e)) continue;
+        if (link.from_cluster || expanded(link, l, e)) continue;
         const Triangle& S = h_.elements[link.source].tri;
         if (!within(L.centre, h_.elements[link.source], kLeafFarField * L.radius)) continue;
         near.push_back(&S);
@@ -1843,7 +1933,8 @@ class LeafGather {
       const Entry& entry = entries[k];
       const Element& S = h_.elements[entry.source];
       const bool proven = entry.verdict == kShaftClear || clear(e, entry.source);
-      const bool visible = proven || (!retrace_ && entry.verdict == kRaysUnanimous);
+      const bool visible =
+          proven || entry.verdict == kRaysTrusted || (!retrace_ && entry.verdict == kRaysUnanimous);
       const bool near = near_F[k] >= 0;
       double F = 0;
       int f_row = -1;
@@ -1880,40 +1971,54 @@ class LeafGather {
     // each node, as a fraction of the link's unoccluded rule. The links are taken by the input
     // triangle their source was cut from: the occluders in the shaft between the leaf and that
     // triangle are the only ones any node can see in front of its sources (none: every one is wholly
-    // visible). Where up to Shadow::kMaxGroups groups of them (convex solids, single triangles)
-    // occlude, their shadows on its plane from each node serve all its sources (ExactVisibility::
-    // Shadow); where more do, each source takes hidden_factor among them. (The part of that triangle
-    // each node sees, one Boolean evaluation for all its sources, was tried for those: on the city
-    // block, whose carriers include the ground, each such union held many buildings' shadows and
-    // the gather stayed in CGAL.)
+    // visible). Their shadows on its plane from each node (one convex polygon per group: a convex
+    // solid or a single triangle), united once as disjoint convex pieces, serve all its sources
+    // (ExactVisibility::Shadow). (Until the twenty-third session more than eight groups were left to
+    // hidden_factor per source, whose union was CGAL's: on the city block, whose carriers include
+    // the ground, the gather had not left CGAL's Booleans after 15 minutes.)
     stats.traced += pending.size();
-    std::sort(pending.begin(), pending.end(), [&](const auto& a, const auto& b) {
-      return std::pair{h_.elements[row[a.first].source].input, a.first} <
-             std::pair{h_.elements[row[b.first].source].input, b.first};
-    });
+    // By input triangle, root and element: the carriers of the shadows, from the largest down.
+    const auto key = [&](const std::pair<int, int>& entry) {
+      const int source = row[entry.first].source;
+      return std::tuple{h_.elements[source].input, h_.elements[source].root, source, entry.first};
+    };
+    std::sort(pending.begin(), pending.end(), [&](const auto& a, const auto& b) { return key(a) < key(b); });
     thread_local std::vector<int> candidates;
     thread_local std::vector<ExactVisibility::Shadow> shadows;
     if (shadows.size() < size) shadows.resize(size);
-    for (std::size_t g = 0, next; g < pending.size(); g = next) {
-      const int input = h_.elements[row[pending[g].first].source].input;
-      for (next = g + 1; next < pending.size() && h_.elements[row[pending[next].first].source].input == input; ++next) {
-      }
-      const Triangle& T = inputs_[input];
-      const std::array<Point3, 6> hull{L.tri.v[0], L.tri.v[1], L.tri.v[2], T.v[0], T.v[1], T.v[2]};
+    // The links pending[first, last), whose sources lie in `carrier`, past the occluders in the shaft
+    // between the leaf and the carrier (none: wholly visible). One shadow per node serves them all.
+    // Where that shaft holds more occluders than the links' own (a city block's ground, whose shaft
+    // from a facade takes in most buildings), they are taken root by root, then source by source: a
+    // source's shaft lies in its link's box, near which about kExactOccluders occluders lie at most.
+    const auto evaluate = [&](const auto& self, const Triangle& carrier, int level, std::size_t first,
+                              std::size_t last) -> void {
+      const std::array<Point3, 6> hull{L.tri.v[0], L.tri.v[1], L.tri.v[2], carrier.v[0], carrier.v[1], carrier.v[2]};
       exact_.shaft_occluders(hull, candidates);
       if (candidates.empty()) {
-        for (std::size_t l = g; l < next; ++l) row[pending[l].first].bin[2] = kShaftClear;
-        continue;
+        for (std::size_t l = first; l < last; ++l) row[pending[l].first].bin[2] = kShaftClear;
+        return;
       }
-      for (std::size_t q = 0; q < size; ++q) exact_.shadow(node_span[q], L.normal, T, candidates, shadows[q]);
-      for (std::size_t l = g; l < next; ++l) {
+      if (level < 2 && candidates.size() > kExactOccluders && last - first > 1) {
+        const auto part = [&](std::size_t l) {
+          const Element& S = h_.elements[row[pending[l].first].source];
+          return level == 0 ? S.root : row[pending[l].first].source;
+        };
+        for (std::size_t g = first, next; g < last; g = next) {
+          for (next = g + 1; next < last && part(next) == part(g); ++next) {
+          }
+          self(self, h_.elements[part(g)].tri, level + 1, g, next);
+        }
+        return;
+      }
+      for (std::size_t q = 0; q < size; ++q) exact_.shadow(node_span[q], L.normal, carrier, candidates, shadows[q]);
+      for (std::size_t l = first; l < last; ++l) {
         Link& link = row[pending[l].first];
         const Triangle& source = h_.elements[link.source].tri;
         bool any = false;
         for (std::size_t q = 0; q < size; ++q) {
           // +∞: wholly in the shadow, f[q] − hidden[q] is then 0 below
-          hidden[q] = shadows[q].formed() ? shadows[q].hidden_factor(source)
-                                          : exact_.hidden_factor(node_span[q], L.normal, source, candidates);
+          hidden[q] = shadows[q].hidden_factor(source);
           any = any || hidden[q] > 0;
         }
         double v = 1;
@@ -1933,6 +2038,12 @@ class LeafGather {
         for (float& c : link.coeff) c = static_cast<float>(c * v);
         if (!(v > 0)) link.source = kReplaced;  // hidden: dropped below
       }
+    };
+    for (std::size_t g = 0, next; g < pending.size(); g = next) {
+      const int input = h_.elements[row[pending[g].first].source].input;
+      for (next = g + 1; next < pending.size() && h_.elements[row[pending[next].first].source].input == input; ++next) {
+      }
+      evaluate(evaluate, inputs_[input], 0, g, next);
     }
   }
 
@@ -1949,6 +2060,12 @@ class LeafGather {
   std::vector<int> cluster_parent_;           // per cluster, −1 for the top
   std::vector<int> cluster_of_root_;          // per element: the BVH leaf of a root, else −1
   std::vector<char> cluster_link_expands_;    // per cluster link
+  // With retrace, per link of h_.links, h_.hidden_links, h_.hidden_cluster_links and
+  // h_.cluster_links: 1 where it is crowded (mark_crowded_links), so that it keeps its rays'
+  // estimate (or stays hidden).
+  struct Crowded {
+    std::vector<char> link, hidden, hidden_cluster, cluster;
+  } crowded_;
 };
 
 // Over the element links whose reverse link exists at the same pair of elements: the largest
@@ -2401,6 +2518,7 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
       sol.stats.leaf_links = g.leaf_links;
       sol.stats.leaf_links_traced = g.traced;
       sol.stats.leaf_links_exact = g.exact;
+      sol.stats.crowded_links = gather.crowded_links();
       h.index_links();
       // Where the leaf links are a small share of the links, the last balance's scales and its stop
       // are the start, as between refinement rounds; where the gather changed most rows (a room

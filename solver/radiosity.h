@@ -41,6 +41,8 @@ struct SolveStats {
   std::size_t leaf_links = 0;          // hierarchical: links formed at the leaves by the final gather
   std::size_t leaf_links_traced = 0;   // of which needed the leaf's own rays
   std::size_t leaf_links_exact = 0;    // of which were partly visible, with the exact visible part
+  std::size_t crowded_links = 0;       // exact visibility: links that kept their rays' estimate (or stayed
+                                       // hidden), their pair's box holding too many occluders
   double link_ray_thread_s = 0;        // thread time spent on them, summed over threads: sample points,
                                        // kernel weights, Embree and the votes (the per-ray cost)
   int iterations = 0;                  // largest over the spectral systems

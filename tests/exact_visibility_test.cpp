@@ -282,7 +282,7 @@ TEST(ExactVisibility, InclusionExclusionAgreesWithTheBooleanDifference) {
                                 c + Vector3{0.4 * u(rng), 0.4 * u(rng), 0.3 * u(rng)}}});
     }
     ExactVisibility fast(scene), boolean(scene);
-    boolean.set_inclusion_exclusion_limit(0);
+    boolean.set_inclusion_exclusion_limit(0, ExactVisibility::Beyond::kCgalBooleans);
     const Point3 p{0.2 * u(rng), 0.2 * u(rng), 0};
     const Vector3 n = normalize(Vector3{0.3 * u(rng), 0.3 * u(rng), 1});
     const auto a = fast.visible_region(p, n, source), b = boolean.visible_region(p, n, source);
@@ -294,6 +294,46 @@ TEST(ExactVisibility, InclusionExclusionAgreesWithTheBooleanDifference) {
     compared += fb < 0.99 * unoccluded;
   }
   EXPECT_GE(compared, 25);  // most configurations do hide part of the source
+}
+
+TEST(ExactVisibility, ConvexPiecesAgreeWithTheBooleanDifference) {
+  // Beyond the inclusion–exclusion limit: the source peeled into disjoint convex pieces (doubles)
+  // against CGAL's exact difference, with 9 to 40 random tilted occluders (shadows overlapping each
+  // other and the source's edges), on the source and on its 1:4 parts, to round-off; and with the
+  // limit at 0, the pieces against inclusion–exclusion for 1 to 8.
+  std::mt19937 rng(23);
+  std::uniform_real_distribution<double> u(-1, 1);
+  int compared = 0;
+  for (int trial = 0; trial < 40; ++trial) {
+    const Triangle source{{Point3{-1 + 0.2 * u(rng), -1, 2 + 0.3 * u(rng)}, Point3{0.1 * u(rng), 1.1, 2.2 + 0.3 * u(rng)},
+                           Point3{1.2, -0.8, 2 + 0.3 * u(rng)}}};
+    std::vector<Triangle> scene = {source};
+    const int occluders = trial < 8 ? 1 + trial : 9 + trial;
+    for (int k = 0; k < occluders; ++k) {
+      const Point3 c{0.9 * u(rng), 0.9 * u(rng), 1 + 0.9 * u(rng)};
+      const double size = trial < 8 ? 0.4 : 0.2;
+      scene.push_back(Triangle{{c + Vector3{size * u(rng), size * u(rng), 0.3 * u(rng)},
+                                c + Vector3{size * u(rng), size * u(rng), 0.3 * u(rng)},
+                                c + Vector3{size * u(rng), size * u(rng), 0.3 * u(rng)}}});
+    }
+    ExactVisibility pieces(scene), reference(scene);
+    if (trial < 8) {
+      pieces.set_inclusion_exclusion_limit(0);  // pieces for every count; the reference's default: inclusion–exclusion
+    } else {
+      reference.set_inclusion_exclusion_limit(0, ExactVisibility::Beyond::kCgalBooleans);
+    }
+    const Point3 p{0.2 * u(rng), 0.2 * u(rng), 0};
+    const Vector3 n = normalize(Vector3{0.3 * u(rng), 0.3 * u(rng), 1});
+    const auto a = pieces.visible_region(p, n, source), b = reference.visible_region(p, n, source);
+    const double unoccluded = point_triangle_factor(p, n, source);
+    ASSERT_GT(unoccluded, 0);
+    for (const Triangle& part : split4(source)) EXPECT_NEAR(a.factor_of(part), b.factor_of(part), 1e-13 * unoccluded);
+    const double fa = a.factor_of(source), fb = b.factor_of(source);
+    EXPECT_NEAR(fa, fb, 1e-13 * unoccluded) << "trial " << trial << ", " << occluders << " occluders";
+    EXPECT_NEAR(pieces.visible_factor(p, n, source), fb, 1e-13 * unoccluded) << "trial " << trial;
+    compared += fb < 0.99 * unoccluded;
+  }
+  EXPECT_GE(compared, 30);  // most configurations hide part of the source
 }
 
 TEST(ExactVisibility, OneRegionServesEveryPartOfTheSource) {
@@ -714,11 +754,11 @@ TEST(ExactVisibility, AConvexSolidsFrontFacesHideTheSumOfTheirFactors) {
 TEST(ExactVisibility, OneShadowServesEveryPartOfACarrier) {
   // A floor triangle (the carrier) and its 1:4 pieces of every level down to 1/256 of it, seen from
   // points on a ceiling past a floating box, a tilted plate, both (two groups whose shadows overlap
-  // from some points: united within each piece), or a row of nine small plates (up to eight groups
-  // united; from some points all nine hide, more than a Shadow unites): the shadow cast on the floor's plane from each point gives every piece the
-  // factor that hidden_factor finds for it alone (by CGAL's difference or the inclusion–exclusion
-  // of each occluding triangle's shadow where several groups hide it), to 1e-12 of the piece's
-  // unoccluded factor (pieces wholly in one group's shadow: all of theirs).
+  // from some points), a row of nine small plates or a grid of 36 (many groups whose shadows overlap,
+  // united as disjoint convex pieces): the shadow cast on the floor's plane from each point gives
+  // every piece the factor that hidden_factor finds for it alone, where every occluding triangle's
+  // shadow is subtracted by CGAL's exact Boolean difference (a second method), to 1e-12 of the
+  // piece's unoccluded factor (pieces wholly in one piece of the shadow: all of theirs).
   const Triangle carrier{{Point3{-1, -1, 0}, Point3{5, -0.5, 0}, Point3{1.5, 5, 0}}};
   std::vector<Triangle> pieces{carrier}, level{carrier};  // the carrier and its pieces of every level
   for (int depth = 0; depth < 4; ++depth) {
@@ -732,18 +772,21 @@ TEST(ExactVisibility, OneShadowServesEveryPartOfACarrier) {
   const Triangle plate{{Point3{2.5, 0.2, 1.2}, Point3{3.6, 0.6, 1.9}, Point3{2.7, 1.5, 1.4}}};
   std::vector<Triangle> both = cube;
   both.push_back(plate);
-  std::vector<Triangle> row;
+  std::vector<Triangle> row, grid;
   for (int k = 0; k < 9; ++k) {
     const double x = 0.2 + 0.35 * k;
     row.push_back(Triangle{{Point3{x, 0.5, 1.5}, Point3{x + 0.3, 0.6, 1.5}, Point3{x + 0.1, 1.9, 1.6}}});
   }
+  for (int i = 0; i < 6; ++i)
+    for (int j = 0; j < 6; ++j) {
+      const double x = -0.2 + 0.55 * i, y = -0.3 + 0.6 * j, z = 0.8 + 0.25 * ((i + 2 * j) % 5);
+      grid.push_back(Triangle{{Point3{x, y, z}, Point3{x + 0.5, y + 0.1, z + 0.1}, Point3{x + 0.2, y + 0.55, z - 0.05}}});
+    }
   struct Case {
     std::vector<Triangle> occluders;
-    bool formed;          // from every point; otherwise not from some, where more than kMaxGroups hide
-    int united_at_least;  // points from which hidden_factor had to unite several groups' shadows
+    int united_at_least;  // points from which several groups' shadows overlap
   };
-  const Case cases[] = {{cube, true, 0}, {{plate}, true, 0}, {both, true, 20}, {row, false, 20}};
-  static_assert(ExactVisibility::Shadow::kMaxGroups < 9);
+  const Case cases[] = {{cube, 0}, {{plate}, 0}, {both, 20}, {row, 20}, {grid, 35}};
   for (const Case& c : cases) {
     std::vector<Triangle> scene = c.occluders;
     scene.push_back(carrier);  // the carrier itself: in its own plane, it hides nothing
@@ -752,39 +795,32 @@ TEST(ExactVisibility, OneShadowServesEveryPartOfACarrier) {
       for (int k = 0; k < 12; ++k) solid[k] = 0;
     const std::vector<char> convex(1, 1);
     const ExactVisibility ev(scene, solid, convex);
+    ExactVisibility exact(scene, solid, convex);
+    exact.set_inclusion_exclusion_limit(0, ExactVisibility::Beyond::kCgalBooleans);
     std::vector<int> candidates(scene.size());
     std::iota(candidates.begin(), candidates.end(), 0);
     std::mt19937 rng(3);
     std::uniform_real_distribution<double> u(0, 1);
-    int hidden_pieces = 0, covered_pieces = 0, united = 0, not_formed = 0;
+    int hidden_pieces = 0, covered_pieces = 0, united = 0;
     ExactVisibility::Shadow shadow;
     for (int trial = 0; trial < 40; ++trial) {
       const Point3 p{-0.5 + 4 * u(rng), -0.5 + 4 * u(rng), 3};
       const Vector3 n = normalize(Vector3{0.8 * (u(rng) - 0.5), 0.8 * (u(rng) - 0.5), -1});
       ev.shadow(p, n, carrier, candidates, shadow);
-      if (!shadow.formed()) {
-        ++not_formed;
-        continue;
-      }
-      const std::uint64_t booleans = ev.boolean_evaluations();
+      const std::uint64_t booleans = exact.boolean_evaluations();
       for (const Triangle& piece : pieces) {
-        const double expected = ev.hidden_factor(p, n, piece, candidates);
+        const double expected = exact.hidden_factor(p, n, piece, candidates);
         const double unoccluded = point_triangle_factor(p, n, piece);
         double hidden = shadow.hidden_factor(piece);
-        if (std::isinf(hidden)) hidden = unoccluded, ++covered_pieces;  // wholly in one group's shadow
+        if (std::isinf(hidden)) hidden = unoccluded, ++covered_pieces;  // wholly in one piece of the shadow
         EXPECT_NEAR(hidden, expected, 1e-12 * unoccluded + 1e-15) << "case " << (&c - cases) << ", trial " << trial;
         hidden_pieces += expected > 0;
       }
-      united += ev.boolean_evaluations() > booleans;  // hidden_factor had to unite shadows
+      united += exact.boolean_evaluations() > booleans;  // hidden_factor had to unite shadows
     }
     EXPECT_GT(hidden_pieces, 200);
     EXPECT_GE(united, c.united_at_least);
-    if (c.formed) {
-      EXPECT_EQ(not_formed, 0);
-      EXPECT_GT(covered_pieces, 20);
-    } else {
-      EXPECT_GT(not_formed, 0);
-    }
+    EXPECT_GT(covered_pieces, 20);
   }
 }
 
@@ -826,19 +862,64 @@ TEST(ExactVisibility, AShadowWhoseCornersCoincideToRoundingStaysConvex) {
   const Point3 wall{5.1324644839737212, 2, 1.4776065480788363};
   ExactVisibility::Shadow shadow;
   ev.shadow(wall, n, carrier, candidates, shadow);
-  ASSERT_TRUE(shadow.formed());
+  ASSERT_GT(shadow.pieces(), 0u);
   EXPECT_NEAR(shadow.hidden_factor(patches[0]), 0.00021422365, 1e-11);
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> u(-0.3, 0.3);
   for (int trial = 0; trial < 400; ++trial) {
     const Point3 p = trial == 0 ? wall : Point3{wall.x + u(rng), 2, wall.z + u(rng)};
     ev.shadow(p, n, carrier, candidates, shadow);
-    ASSERT_TRUE(shadow.formed());
     for (const Triangle& patch : patches) {
       const double unoccluded = point_triangle_factor(p, n, patch);
       const double hidden = std::min(shadow.hidden_factor(patch), unoccluded);
       EXPECT_NEAR(hidden, ev.hidden_factor(p, n, patch, candidates), 1e-12 * unoccluded) << "trial " << trial;
     }
+  }
+}
+
+TEST(ExactVisibility, ShadowsWithCornersThatCoincideToRoundingCutNothingAtRandom) {
+  // Two floating cubes' faces (as their input triangles, from the three-cube furnace of
+  // tests/hierarchical_test.cpp) between a point on a wall and a patch of the far wall. The cone's
+  // clip leaves some shadows with two corners a rounding apart: the edge between them has no
+  // direction, and inclusion–exclusion and the convex pieces, which both clip by the shadows' edges,
+  // cut at random there: 4.76e-4 hidden (the whole patch) where CGAL's exact difference and a Monte
+  // Carlo estimate give 4.55e-4. Also from points around that one, each way against CGAL's.
+  std::vector<Triangle> scene;
+  const auto cube_faces = [&](std::initializer_list<std::array<double, 9>> faces) {
+    for (const auto& c : faces) scene.push_back({{Point3{c[0], c[1], c[2]}, Point3{c[3], c[4], c[5]}, Point3{c[6], c[7], c[8]}}});
+  };
+  cube_faces({{1, 1, 1.6, 1.8, 1.8, 1.6, 1, 1.8, 1.6},
+              {1, 1, 0.8, 1, 1, 1.6, 1, 1.8, 1.6},
+              {1, 1, 0.8, 1.8, 1, 1.6, 1, 1, 1.6},
+              {1, 1, 1.6, 1.8, 1, 1.6, 1.8, 1.8, 1.6},
+              {1.8, 1, 0.8, 1.8, 1.8, 1.6, 1.8, 1, 1.6},
+              {1.8, 1, 0.8, 1.8, 1.8, 0.8, 1.8, 1.8, 1.6},
+              {1, 1, 0.8, 1, 1.8, 1.6, 1, 1.8, 0.8},
+              {1, 1.8, 0.8, 1, 1.8, 1.6, 1.8, 1.8, 1.6},
+              {1, 1.8, 0.8, 1.8, 1.8, 1.6, 1.8, 1.8, 0.8},
+              {2.6, 1.5, 2, 3.4, 2.3, 2, 2.6, 2.3, 2},
+              {2.6, 1.5, 1.2, 2.6, 1.5, 2, 2.6, 2.3, 2},
+              {2.6, 1.5, 1.2, 2.6, 2.3, 2, 2.6, 2.3, 1.2},
+              {2.6, 2.3, 1.2, 2.6, 2.3, 2, 3.4, 2.3, 2}});
+  // The room's corners (6 × 4 × 3 m) as specks, so that the coordinates are taken about its centre.
+  scene.push_back(Triangle{{Point3{0, 0, 0}, Point3{0.01, 0, 0}, Point3{0, 0.01, 0}}});
+  scene.push_back(Triangle{{Point3{6, 4, 3}, Point3{5.99, 4, 3}, Point3{6, 3.99, 3}}});
+  ExactVisibility inclusion_exclusion(scene), pieces(scene), boolean(scene);
+  inclusion_exclusion.set_inclusion_exclusion_limit(64);
+  pieces.set_inclusion_exclusion_limit(0);
+  boolean.set_inclusion_exclusion_limit(0, ExactVisibility::Beyond::kCgalBooleans);
+  const Triangle source{{Point3{5.25, 4, 2.625}, Point3{5.25, 4, 3}, Point3{4.5, 4, 2.625}}};
+  const Vector3 n{1, 0, 0};
+  const Point3 wall{0, 0.033333333333333312, 1.1749999999999998};
+  EXPECT_NEAR(boolean.hidden_factor(wall, n, source), 4.554e-4, 1e-7);  // Monte Carlo (4·10⁵ samples): 4.554e-4
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-0.05, 0.05);
+  for (int trial = 0; trial < 300; ++trial) {
+    const Point3 p = trial == 0 ? wall : Point3{0, std::max(0.0, wall.y + u(rng)), wall.z + u(rng)};
+    const double unoccluded = point_triangle_factor(p, n, source);
+    const double reference = boolean.hidden_factor(p, n, source);
+    EXPECT_NEAR(inclusion_exclusion.hidden_factor(p, n, source), reference, 1e-9 * unoccluded) << "trial " << trial;
+    EXPECT_NEAR(pieces.hidden_factor(p, n, source), reference, 1e-9 * unoccluded) << "trial " << trial;
   }
 }
 

@@ -9,7 +9,9 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <map>
+#include <string>
 
 #include "solver/cubature.h"
 #include "solver/form_factor.h"
@@ -115,6 +117,7 @@ TEST(Hierarchical, ExactVisibilityClosesTheRowsNearAnOccluder) {
   EXPECT_LT(visible.stats.max_closure_error, 1e-5);
   EXPECT_LT(visible.stats.max_closure_error, 0.01 * dense.stats.max_closure_error);
   EXPECT_GT(visible.stats.leaf_links_exact, 10000u);
+  EXPECT_EQ(visible.stats.crowded_links, 0u);  // 24 occluders: no shaft can hold more than 48
   EXPECT_EQ(gathered.stats.leaf_links_exact, 0u);
   for (const Solution* sol : {&refined, &gathered, &visible}) expect_furnace(*sol, 0.5);
 }
@@ -164,6 +167,45 @@ TEST(Hierarchical, ExactVisibilityClosesTheRowsPastSeveralOccluders) {
     const Solution sol = solve_exact(b.scene());
     EXPECT_LT(sol.stats.max_closure_error, 1e-4);
     EXPECT_GT(sol.stats.enclosed_patches, 0u);  // the floor under the crate
+  }
+}
+
+TEST(Hierarchical, ExactVisibilityKeepsTheRaysOfCrowdedLinks) {
+  // Halls of floating cubes in rows, with exact visibility. Eight cubes (108 occluders, at most
+  // kSmallScene): every link is gathered exactly, and the raw closure (stats.max_closure_error,
+  // before the balance) is what exact visibility gives near one cube. Twenty-four (300): links near
+  // whose boxes lie more than kExactOccluders occluders, such as those along the hall past many
+  // cubes, keep their rays' estimate (stats.crowded_links) as by default, the others are gathered
+  // exactly, and the raw closure lies between the default's and the eight cubes'. The furnace is
+  // exact in every case (the balance), and no link is crowded by default.
+  for (const int rows : {1, 3}) {
+    SceneBuilder b;
+    const int grey = b.material("grey", 0.5);
+    b.surface("hall", grey, box({0, 0, 0}, {12, 6, 3}, true), 1.0);
+    for (int r = 0; r < rows; ++r)
+      for (int k = 0; k < 8; ++k) {
+        const double x = 0.9 + 1.4 * k, y = rows == 1 ? 2.6 : 1 + 1.6 * r, z = 0.8 + 0.3 * ((k + r) % 3);
+        b.surface("cube" + std::to_string(r) + "_" + std::to_string(k), grey, box({x, y, z}, {x + 0.7, y + 0.7, z + 0.7}, false), 1.0);
+      }
+    b.max_patch_area(0.3);
+    Scene exact = b.scene();
+    exact.solver.exact_visibility = true;
+    const Solution by_default = solve_with(b.scene(), SolverMethod::Hierarchical);
+    const Solution visible = solve_with(exact, SolverMethod::Hierarchical);
+    std::printf("%d row(s): closure by default %.3g, exact visibility %.3g; crowded links %zu, exact leaf links %zu\n",
+                rows, by_default.stats.max_closure_error, visible.stats.max_closure_error, visible.stats.crowded_links,
+                visible.stats.leaf_links_exact);
+    EXPECT_EQ(by_default.stats.crowded_links, 0u);
+    EXPECT_GT(visible.stats.leaf_links_exact, 1000u);
+    if (rows == 1) {
+      EXPECT_EQ(visible.stats.crowded_links, 0u);
+      EXPECT_LT(visible.stats.max_closure_error, 1e-4);
+    } else {
+      EXPECT_GT(visible.stats.crowded_links, 1000u);
+      EXPECT_LT(visible.stats.max_closure_error, by_default.stats.max_closure_error);
+    }
+    expect_furnace(by_default, 0.5);
+    expect_furnace(visible, 0.5);
   }
 }
 
