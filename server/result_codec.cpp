@@ -206,6 +206,7 @@ void write_result(std::ostream& os, const Scene& scene, const Solution& sol, con
         {"escaped_W", st.escaped_W},
         {"relative_imbalance", st.relative_imbalance}}},
       {"closure_max_error", st.max_closure_error},
+      {"closure_residual", st.closure_residual},
       {"reciprocity_max_error", st.max_reciprocity_error},
       {"reciprocity_mean_error", st.mean_reciprocity_error},
       {"time_s",

@@ -573,7 +573,8 @@ void check_cancel(const SolveControl& control) {
 // (a stall on the way to the oracle's target does not stop the final balance): a lit room's sweeps
 // stall at 1e-6 to 1e-5 (leaves whose rows and columns are nearly free), far below the links' own
 // errors, and aiming lower cost the 985 435-patch lit sphere room 20 sweeps a round. Returns the
-// largest row-sum error of a closed leaf before any scaling (stats.max_closure_error).
+// largest row-sum error of a closed leaf before any scaling (stats.max_closure_error) and the
+// largest error of a held row or column after the balance (stats.closure_residual).
 //
 // A row-sum error ε moves the radiosity of a closed scene by about ε / (1 − ρ) of itself (the furnace:
 // B = M / (1 − ρ(1 − ε)); where nothing reflects, the irradiance by ε), so the error that moves it by
@@ -584,9 +585,14 @@ double balance_target(double share, double rho_max) {
   return std::max(kBalanceFloor, share * (1 - std::min(rho_max, 1.0)));
 }
 
-double balance(Hierarchy& h, const std::vector<char>& closed, const std::vector<double>& sends,
-               const std::vector<char>& emits, const std::vector<Patch>& patches, double target,
-               const SolveControl& control) {
+struct Balanced {
+  double raw_error = 0;  // the largest row-sum error of a closed leaf before any scaling
+  double residual = 0;   // the largest error of a held row or column after the balance
+};
+
+Balanced balance(Hierarchy& h, const std::vector<char>& closed, const std::vector<double>& sends,
+                 const std::vector<char>& emits, const std::vector<Patch>& patches, double target,
+                 const SolveControl& control) {
   const std::size_t N = h.leaves.size();
   std::vector<double> rows(N), weighted(N), cols(N), raw(N);
   std::vector<int> root_of(N);  // index into h.roots
@@ -612,26 +618,20 @@ double balance(Hierarchy& h, const std::vector<char>& closed, const std::vector<
   double omega = h.balance_omega;
   const double stop_at = std::max(target, target >= h.balance_stalled_aim ? h.balance_stalled_at : 0.0);
   auto relax = [&](double old, double target) { return omega == 1 ? target : old * std::pow(target / old, omega); };
-  auto scale_rows = [&] {  // returns the rows' error before
+  // The rows: where `update`, each scale moves toward its row's target; returns the rows' error before.
+  auto scale_rows = [&](bool update) {
     h.apply({h.source_scale.data()}, {rows.data()}, false);  // Σ_j F_ij d_c,j
     double row_error = 0;
     for (std::size_t i = 0; i < N; ++i) {
       const double S = rows[i] * h.leaf_scale[i];
       if (full_row[i] && S > 0) row_error = std::max(row_error, std::abs(1 - S));
-      h.leaf_scale[i] = rows[i] > 0 && (full_row[i] || rows[i] > 1) ? relax(h.leaf_scale[i], 1 / rows[i]) : 1.0;
+      if (update) h.leaf_scale[i] = rows[i] > 0 && (full_row[i] || rows[i] > 1) ? relax(h.leaf_scale[i], 1 / rows[i]) : 1.0;
     }
     return row_error;
   };
-  // Stops at convergence, or when ten sweeps have not cut the error tenfold (leaves partly inside
-  // solids, whose rows and columns are free, can make the balance crawl: it would cost sweeps, not
-  // accuracy). Healthy sweeps gain 10⁴ in ten, plain or over-relaxed. Over-relaxed sweeps do keep
-  // crawling down, at about 0.8 a sweep, where plain ones stall. Halving in ten sweeps was not enough:
-  // a lit room of 984 320 patches spent 100 sweeps a round, 320 s of its 861.
-  double best = 1e300, best_ten_ago = 1e300;
-  std::vector<double> errors;  // of the sweeps since ω last changed
-  for (int sweep = 0; sweep < kMaxBalanceSweeps; ++sweep) {
-    check_cancel(control);
-    const double row_error = scale_rows();
+  // The columns: where `update`, each held scale moves toward its column's target; returns the
+  // columns' error before.
+  auto scale_columns = [&](bool update) {
     for (std::size_t i = 0; i < N; ++i) weighted[i] = patches[i].area_m2 * h.leaf_scale[i];
     h.apply_transpose(weighted.data(), cols.data());  // Σ_i A_i d_r,i F_ij
     // Closed emitting leaves: per root, what the scene gathers of the power they send, over that power.
@@ -650,16 +650,29 @@ double balance(Hierarchy& h, const std::vector<char>& closed, const std::vector<
         const double sent = emits[j] ? root_sent[root_of[j]] : sends[j] * patches[j].area_m2;
         const double C = (emits[j] ? root_gathered[root_of[j]] : sends[j] * cols[j] * h.source_scale[j]) / sent;
         if (!(sent > 0 && C > 0)) {
-          h.source_scale[j] = 1.0;  // sends nothing: no power to conserve
+          if (update) h.source_scale[j] = 1.0;  // sends nothing: no power to conserve
           continue;
         }
         col_error = std::max(col_error, std::abs(1 - C));
-        h.source_scale[j] = relax(h.source_scale[j], h.source_scale[j] / C);
+        if (update) h.source_scale[j] = relax(h.source_scale[j], h.source_scale[j] / C);
       } else {
         const double t = cols[j] / patches[j].area_m2;
-        h.source_scale[j] = closed[j] == 0 && t > 1 ? relax(h.source_scale[j], 1 / t) : 1.0;
+        if (update) h.source_scale[j] = closed[j] == 0 && t > 1 ? relax(h.source_scale[j], 1 / t) : 1.0;
       }
     }
+    return col_error;
+  };
+  // Stops at convergence, or when ten sweeps have not cut the error tenfold (leaves partly inside
+  // solids, whose rows and columns are free, can make the balance crawl: it would cost sweeps, not
+  // accuracy). Healthy sweeps gain 10⁴ in ten, plain or over-relaxed. Over-relaxed sweeps do keep
+  // crawling down, at about 0.8 a sweep, where plain ones stall. Halving in ten sweeps was not enough:
+  // a lit room of 984 320 patches spent 100 sweeps a round, 320 s of its 861.
+  double best = 1e300, best_ten_ago = 1e300;
+  std::vector<double> errors;  // of the sweeps since ω last changed
+  for (int sweep = 0; sweep < kMaxBalanceSweeps; ++sweep) {
+    check_cancel(control);
+    const double row_error = scale_rows(true);
+    const double col_error = scale_columns(true);
     const double error = std::max(row_error, col_error);
     best = std::min(best, error);
     if (error < stop_at) break;
@@ -689,9 +702,10 @@ double balance(Hierarchy& h, const std::vector<char>& closed, const std::vector<
   omega = 1;
   // Rows last: a furnace with ρ = 0.999 multiplies a row's error by 1000. Where the sweeps stopped
   // short of convergence, the columns keep a small error, which the energy certificate shows as
-  // imbalance.
-  scale_rows();
-  return raw_error;
+  // imbalance, and which the residual reports (one product more: about half a sweep).
+  scale_rows(true);
+  const double row_residual = scale_rows(false);
+  return {raw_error, std::max(row_residual, scale_columns(false))};
 }
 
 // Least-squares f ≈ Σ_v a_v β_v over points with barycentric coordinates β (normal equations, Cramer).
@@ -2642,8 +2656,10 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
           for (std::size_t i = 0; i < N; ++i) sends[i] = std::max(sends[i], std::abs(sys.x[i]));
       }
       final_balance = round == kRefineRounds - 1;
-      sol.stats.max_closure_error =
+      const Balanced balanced =
           balance(h, closed, sends, emits, sol.patches, final_balance ? final_target : oracle_target, control);
+      sol.stats.max_closure_error = balanced.raw_error;
+      sol.stats.closure_residual = balanced.residual;
       time_links += seconds_since(t1);
       report(0.1 + 0.2 * (round + 1));
 
@@ -2661,7 +2677,9 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
       std::vector<double> sends(N, 0.0);
       for (const auto& sys : systems)
         for (std::size_t i = 0; i < N; ++i) sends[i] = std::max(sends[i], std::abs(sys.x[i]));
-      sol.stats.max_closure_error = balance(h, closed, sends, emits, sol.patches, final_target, control);
+      const Balanced balanced = balance(h, closed, sends, emits, sol.patches, final_target, control);
+      sol.stats.max_closure_error = balanced.raw_error;
+      sol.stats.closure_residual = balanced.residual;
       time_links += seconds_since(t1);
       t1 = Clock::now();
       for (auto& sys : systems) sys.iterations = 0;

@@ -726,6 +726,10 @@ Solution solve_dense(const Scene& scene, const SolveControl& control, const std:
       }
     });
     sol.stats.max_closure_error = scaling.initial_deviation;
+    // The rows as the solve uses them (the scaled factors keep A_i F_ij = A_j F_ji, so the columns
+    // weighted by area are the rows).
+    for (std::size_t i = 0; i < N; ++i)
+      if (closing[i]) sol.stats.closure_residual = std::max(sol.stats.closure_residual, std::abs(1 - row_sum[i]));
     report_hemisphere_findings(sol, scene, closed);
     double worst = 0, differ = 0, exchanged = 0;
     for (std::size_t i = 0; i < N; ++i)

@@ -51,6 +51,8 @@ struct SolveStats {
   double emitted_W = 0, absorbed_W = 0, escaped_W = 0, relative_imbalance = 0;
   double max_closure_error = 0;        // max |1 − Σ_j F_ij| over closed patches, before their rows
                                        // were scaled to 1 (the visible-fraction estimates' error)
+  double closure_residual = 0;         // what the closure balance left: max |1 − sum| over the rows (and,
+                                       // hierarchical, the columns) it holds at 1, after it
   double max_reciprocity_error = 0;    // max |A_i F_ij − A_j F_ji| / max(A_i F_ij, A_j F_ji)
   double mean_reciprocity_error = 0;   // Σ |A_i F_ij − A_j F_ji| / Σ max(A_i F_ij, A_j F_ji), same pairs
   double time_meshing_s = 0, time_visibility_s = 0, time_form_factors_s = 0, time_solve_s = 0,
