@@ -573,8 +573,8 @@ void check_cancel(const SolveControl& control) {
 // (a stall on the way to the oracle's target does not stop the final balance): a lit room's sweeps
 // stall at 1e-6 to 1e-5 (leaves whose rows and columns are nearly free), far below the links' own
 // errors, and aiming lower cost the 985 435-patch lit sphere room 20 sweeps a round. Returns the
-// largest row-sum error of a closed leaf before any scaling (stats.max_closure_error) and the
-// largest error of a held row or column after the balance (stats.closure_residual).
+// largest row-sum error of a closed leaf before any scaling (stats.max_closure_error) and, for the
+// final balance, the largest error of a held row or column after it (stats.closure_residual).
 //
 // A row-sum error ε moves the radiosity of a closed scene by about ε / (1 − ρ) of itself (the furnace:
 // B = M / (1 − ρ(1 − ε)); where nothing reflects, the irradiance by ε), so the error that moves it by
@@ -592,7 +592,7 @@ struct Balanced {
 
 Balanced balance(Hierarchy& h, const std::vector<char>& closed, const std::vector<double>& sends,
                  const std::vector<char>& emits, const std::vector<Patch>& patches, double target,
-                 const SolveControl& control) {
+                 bool final_balance, const SolveControl& control) {
   const std::size_t N = h.leaves.size();
   std::vector<double> rows(N), weighted(N), cols(N), raw(N);
   std::vector<int> root_of(N);  // index into h.roots
@@ -702,8 +702,9 @@ Balanced balance(Hierarchy& h, const std::vector<char>& closed, const std::vecto
   omega = 1;
   // Rows last: a furnace with ρ = 0.999 multiplies a row's error by 1000. Where the sweeps stopped
   // short of convergence, the columns keep a small error, which the energy certificate shows as
-  // imbalance, and which the residual reports (one product more: about half a sweep).
+  // imbalance, and which the final balance's residual reports (one sweep more, not updating).
   scale_rows(true);
+  if (!final_balance) return {raw_error, 0};
   const double row_residual = scale_rows(false);
   return {raw_error, std::max(row_residual, scale_columns(false))};
 }
@@ -2656,8 +2657,8 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
           for (std::size_t i = 0; i < N; ++i) sends[i] = std::max(sends[i], std::abs(sys.x[i]));
       }
       final_balance = round == kRefineRounds - 1;
-      const Balanced balanced =
-          balance(h, closed, sends, emits, sol.patches, final_balance ? final_target : oracle_target, control);
+      const Balanced balanced = balance(h, closed, sends, emits, sol.patches,
+                                        final_balance ? final_target : oracle_target, final_balance, control);
       sol.stats.max_closure_error = balanced.raw_error;
       sol.stats.closure_residual = balanced.residual;
       time_links += seconds_since(t1);
@@ -2677,7 +2678,7 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
       std::vector<double> sends(N, 0.0);
       for (const auto& sys : systems)
         for (std::size_t i = 0; i < N; ++i) sends[i] = std::max(sends[i], std::abs(sys.x[i]));
-      const Balanced balanced = balance(h, closed, sends, emits, sol.patches, final_target, control);
+      const Balanced balanced = balance(h, closed, sends, emits, sol.patches, final_target, true, control);
       sol.stats.max_closure_error = balanced.raw_error;
       sol.stats.closure_residual = balanced.residual;
       time_links += seconds_since(t1);
