@@ -624,6 +624,14 @@ Solution solve_dense(const Scene& scene, const SolveControl& control, const std:
         if (!in_front_of_all(i)) closed[i] = hemisphere_is_closed(sol.patches, i, vis, two_sided), probed[i] = 1;
     });
     check_cancel(control);
+    // Nor does it emit or reflect: a light sealed inside a box sends nothing, and its power is not
+    // counted as emitted (nor as escaped) in the energy certificate.
+    for (std::size_t i = 0; i < N; ++i)
+      if (closed[i] == 3)
+        for (std::size_t w = 0; w < W; ++w) {
+          rho[i * W + w] = 0, M[i * W + w] = 0;
+          for (auto& term : terms) term.M[i * W + w] = 0;
+        }
     // Whether any link of a patch's row needed rays (its row sum is then an estimate).
     const std::vector<Point3> samples = lifted_visibility_samples(sol.patches, vis);
     std::unique_ptr<std::atomic<char>[]> row_traced(new std::atomic<char>[N]);
