@@ -630,7 +630,8 @@ Solution solve_dense(const Scene& scene, const SolveControl& control, const std:
       if (closed[i] == 3)
         for (std::size_t w = 0; w < W; ++w) {
           rho[i * W + w] = 0, M[i * W + w] = 0;
-          for (auto& term : terms) term.M[i * W + w] = 0;
+          for (auto& term : terms)
+            if (!term.M.empty()) term.M[i * W + w] = 0;  // a light's term has no M
         }
     // Whether any link of a patch's row needed rays (its row sum is then an estimate).
     const std::vector<Point3> samples = lifted_visibility_samples(sol.patches, vis);
