@@ -774,10 +774,12 @@ std::size_t ExactVisibility::occluders_near_box(const Bounds3& box) const {
   const Vector3 shift = to_vector(impl_->centre);
   std::array<int, 3> lo, hi;
   for (int a = 0; a < 3; ++a) {
-    const auto cell = [&](double x) {
-      return std::clamp(static_cast<int>(std::floor((x - g.origin[a]) / g.cell[a])), 0, g.n[a] - 1);
-    };
-    lo[a] = cell((box.lo - shift)[a]) - 1, hi[a] = cell((box.hi - shift)[a]);  // the table is 1-based
+    const double first = std::floor(((box.lo - shift)[a] - g.origin[a]) / g.cell[a]);
+    const double last = std::floor(((box.hi - shift)[a] - g.origin[a]) / g.cell[a]);
+    if (!(last >= 0 && first <= g.n[a] - 1)) return 0;  // beside the grid: no centroid is near
+    // The cells the box meets, less one below (the table's prefix sums are 1-based).
+    lo[a] = static_cast<int>(std::max(first, 0.0)) - 1;
+    hi[a] = static_cast<int>(std::min(last, g.n[a] - 1.0));
   }
   const auto at = [&](int i, int j, int k) {
     return g.table[(static_cast<std::size_t>(k + 1) * (g.n[1] + 1) + (j + 1)) * (g.n[0] + 1) + (i + 1)];

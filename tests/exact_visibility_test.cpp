@@ -11,6 +11,7 @@
 #include <numeric>
 #include <random>
 #include <set>
+#include <string>
 
 #include "mesh/polygon_boolean.h"
 #include "solver/cubature.h"
@@ -263,75 +264,80 @@ TEST(Visibility, WatertightRaysDoNotSlipThroughSeams) {
               static_cast<long>(std::count(estimate.begin(), estimate.end(), 1)));
 }
 
-TEST(ExactVisibility, InclusionExclusionAgreesWithTheBooleanDifference) {
-  // The two ways of forming the visible part, on random tilted configurations with 1 to 8 occluders
-  // (overlapping shadows, shadows crossing the source's edges, occluders cut by the source's plane
-  // or the point's horizon), and on every part of a split source: the same factor to round-off.
-  std::mt19937 rng(11);
+// A random tilted source above a receiving point, with `occluders` random triangles (centres within
+// `spread` across, corners within `size`) between them: overlapping shadows, shadows crossing the
+// source's edges, occluders cut by the source's plane or the point's horizon.
+struct RandomOcclusion {
+  Triangle source;
+  std::vector<Triangle> scene;  // the source, then the occluders
+  Point3 p;
+  Vector3 n;
+};
+RandomOcclusion random_occlusion(std::mt19937& rng, int occluders, double spread, double size) {
   std::uniform_real_distribution<double> u(-1, 1);
+  RandomOcclusion c;
+  c.source = Triangle{{Point3{-1 + 0.2 * u(rng), -1, 2 + 0.3 * u(rng)}, Point3{0.1 * u(rng), 1.1, 2.2 + 0.3 * u(rng)},
+                       Point3{1.2, -0.8, 2 + 0.3 * u(rng)}}};
+  c.scene = {c.source};
+  for (int k = 0; k < occluders; ++k) {
+    const Point3 centre{spread * u(rng), spread * u(rng), 1 + 0.9 * u(rng)};
+    c.scene.push_back(Triangle{{centre + Vector3{size * u(rng), size * u(rng), 0.3 * u(rng)},
+                                centre + Vector3{size * u(rng), size * u(rng), 0.3 * u(rng)},
+                                centre + Vector3{size * u(rng), size * u(rng), 0.3 * u(rng)}}});
+  }
+  c.p = Point3{0.2 * u(rng), 0.2 * u(rng), 0};
+  c.n = normalize(Vector3{0.3 * u(rng), 0.3 * u(rng), 1});
+  return c;
+}
+
+// The visible regions that two ways of subtracting the shadows give, on the source and on its 1:4
+// parts, to round-off (1e-13 of the unoccluded factor); returns whether something hides at least 1 %.
+bool expect_same_visible_region(const ExactVisibility& a, const ExactVisibility& b, const RandomOcclusion& c,
+                                const std::string& what) {
+  const auto ra = a.visible_region(c.p, c.n, c.source), rb = b.visible_region(c.p, c.n, c.source);
+  const double unoccluded = point_triangle_factor(c.p, c.n, c.source);
+  EXPECT_GT(unoccluded, 0) << what;
+  for (const Triangle& part : split4(c.source))
+    EXPECT_NEAR(ra.factor_of(part), rb.factor_of(part), 1e-13 * unoccluded) << what;
+  const double fb = rb.factor_of(c.source);
+  EXPECT_NEAR(ra.factor_of(c.source), fb, 1e-13 * unoccluded) << what;
+  EXPECT_NEAR(a.visible_factor(c.p, c.n, c.source), fb, 1e-13 * unoccluded) << what;
+  return fb < 0.99 * unoccluded;
+}
+
+TEST(ExactVisibility, InclusionExclusionAgreesWithTheBooleanDifference) {
+  // The two ways of forming the visible part, on random tilted configurations with 1 to 8 occluders:
+  // the same factor to round-off.
+  std::mt19937 rng(11);
   int compared = 0;
   for (int trial = 0; trial < 40; ++trial) {
-    const Triangle source{{Point3{-1 + 0.2 * u(rng), -1, 2 + 0.3 * u(rng)}, Point3{0.1 * u(rng), 1.1, 2.2 + 0.3 * u(rng)},
-                           Point3{1.2, -0.8, 2 + 0.3 * u(rng)}}};
-    std::vector<Triangle> scene = {source};
     const int occluders = 1 + trial % 8;
-    for (int k = 0; k < occluders; ++k) {
-      const Point3 c{0.8 * u(rng), 0.8 * u(rng), 1 + 0.9 * u(rng)};
-      scene.push_back(Triangle{{c + Vector3{0.4 * u(rng), 0.4 * u(rng), 0.3 * u(rng)},
-                                c + Vector3{0.4 * u(rng), 0.4 * u(rng), 0.3 * u(rng)},
-                                c + Vector3{0.4 * u(rng), 0.4 * u(rng), 0.3 * u(rng)}}});
-    }
-    ExactVisibility fast(scene), boolean(scene);
+    const RandomOcclusion c = random_occlusion(rng, occluders, 0.8, 0.4);
+    ExactVisibility fast(c.scene), boolean(c.scene);
     boolean.set_inclusion_exclusion_limit(0, ExactVisibility::Beyond::kCgalBooleans);
-    const Point3 p{0.2 * u(rng), 0.2 * u(rng), 0};
-    const Vector3 n = normalize(Vector3{0.3 * u(rng), 0.3 * u(rng), 1});
-    const auto a = fast.visible_region(p, n, source), b = boolean.visible_region(p, n, source);
-    const double unoccluded = point_triangle_factor(p, n, source);
-    ASSERT_GT(unoccluded, 0);
-    for (const Triangle& part : split4(source)) EXPECT_NEAR(a.factor_of(part), b.factor_of(part), 1e-13 * unoccluded);
-    const double fa = a.factor_of(source), fb = b.factor_of(source);
-    EXPECT_NEAR(fa, fb, 1e-13 * unoccluded) << "trial " << trial << ", " << occluders << " occluders";
-    compared += fb < 0.99 * unoccluded;
+    compared += expect_same_visible_region(fast, boolean, c,
+                                           "trial " + std::to_string(trial) + ", " + std::to_string(occluders) + " occluders");
   }
   EXPECT_GE(compared, 25);  // most configurations do hide part of the source
 }
 
 TEST(ExactVisibility, ConvexPiecesAgreeWithTheBooleanDifference) {
   // Beyond the inclusion–exclusion limit: the source peeled into disjoint convex pieces (doubles)
-  // against CGAL's exact difference, with 9 to 40 random tilted occluders (shadows overlapping each
-  // other and the source's edges), on the source and on its 1:4 parts, to round-off; and with the
-  // limit at 0, the pieces against inclusion–exclusion for 1 to 8.
+  // against CGAL's exact difference, with 9 to 40 random tilted occluders, to round-off; and with
+  // the limit at 0, the pieces against inclusion–exclusion for 1 to 8.
   std::mt19937 rng(23);
-  std::uniform_real_distribution<double> u(-1, 1);
   int compared = 0;
   for (int trial = 0; trial < 40; ++trial) {
-    const Triangle source{{Point3{-1 + 0.2 * u(rng), -1, 2 + 0.3 * u(rng)}, Point3{0.1 * u(rng), 1.1, 2.2 + 0.3 * u(rng)},
-                           Point3{1.2, -0.8, 2 + 0.3 * u(rng)}}};
-    std::vector<Triangle> scene = {source};
     const int occluders = trial < 8 ? 1 + trial : 9 + trial;
-    for (int k = 0; k < occluders; ++k) {
-      const Point3 c{0.9 * u(rng), 0.9 * u(rng), 1 + 0.9 * u(rng)};
-      const double size = trial < 8 ? 0.4 : 0.2;
-      scene.push_back(Triangle{{c + Vector3{size * u(rng), size * u(rng), 0.3 * u(rng)},
-                                c + Vector3{size * u(rng), size * u(rng), 0.3 * u(rng)},
-                                c + Vector3{size * u(rng), size * u(rng), 0.3 * u(rng)}}});
-    }
-    ExactVisibility pieces(scene), reference(scene);
+    const RandomOcclusion c = random_occlusion(rng, occluders, 0.9, trial < 8 ? 0.4 : 0.2);
+    ExactVisibility pieces(c.scene), reference(c.scene);
     if (trial < 8) {
       pieces.set_inclusion_exclusion_limit(0);  // pieces for every count; the reference's default: inclusion–exclusion
     } else {
       reference.set_inclusion_exclusion_limit(0, ExactVisibility::Beyond::kCgalBooleans);
     }
-    const Point3 p{0.2 * u(rng), 0.2 * u(rng), 0};
-    const Vector3 n = normalize(Vector3{0.3 * u(rng), 0.3 * u(rng), 1});
-    const auto a = pieces.visible_region(p, n, source), b = reference.visible_region(p, n, source);
-    const double unoccluded = point_triangle_factor(p, n, source);
-    ASSERT_GT(unoccluded, 0);
-    for (const Triangle& part : split4(source)) EXPECT_NEAR(a.factor_of(part), b.factor_of(part), 1e-13 * unoccluded);
-    const double fa = a.factor_of(source), fb = b.factor_of(source);
-    EXPECT_NEAR(fa, fb, 1e-13 * unoccluded) << "trial " << trial << ", " << occluders << " occluders";
-    EXPECT_NEAR(pieces.visible_factor(p, n, source), fb, 1e-13 * unoccluded) << "trial " << trial;
-    compared += fb < 0.99 * unoccluded;
+    compared += expect_same_visible_region(pieces, reference, c,
+                                           "trial " + std::to_string(trial) + ", " + std::to_string(occluders) + " occluders");
   }
   EXPECT_GE(compared, 30);  // most configurations hide part of the source
 }
@@ -920,6 +926,45 @@ TEST(ExactVisibility, ShadowsWithCornersThatCoincideToRoundingCutNothingAtRandom
     const double reference = boolean.hidden_factor(p, n, source);
     EXPECT_NEAR(inclusion_exclusion.hidden_factor(p, n, source), reference, 1e-9 * unoccluded) << "trial " << trial;
     EXPECT_NEAR(pieces.hidden_factor(p, n, source), reference, 1e-9 * unoccluded) << "trial " << trial;
+  }
+}
+
+TEST(ExactVisibility, OccludersNearABoxAreCountedOnTheGrid) {
+  // occluders_near_box counts centroids in the grid cells a box meets (64 cells along the scene's
+  // longest axis): at least those inside the box, at most those within one cell of it. Brute force
+  // over 2 000 random small triangles in a 10 × 4 × 2 m block (cells of 10/64 m), far from the
+  // origin (the grid is kept about the scene's centre), for random boxes of every size.
+  std::mt19937 rng(31);
+  std::uniform_real_distribution<double> u(0, 1);
+  const Vector3 offset{5e5, 5.5e6, 300};
+  std::vector<Triangle> scene;
+  std::vector<Point3> centroids;
+  for (int k = 0; k < 2000; ++k) {
+    const Point3 c = Point3{10 * u(rng), 4 * u(rng), 2 * u(rng)} + offset;
+    scene.push_back(Triangle{{c + Vector3{0.03, 0, 0}, c + Vector3{-0.03, 0.03, 0}, c + Vector3{0, -0.03, 0.02}}});
+    centroids.push_back(Point3{} + (to_vector(scene.back().v[0]) + to_vector(scene.back().v[1]) + to_vector(scene.back().v[2])) / 3);
+  }
+  const ExactVisibility ev(scene);
+  EXPECT_EQ(ev.occluders(), 2000u);
+  const double cell = 10.0 / 64;
+  const auto count_in = [&](const Bounds3& b, double margin) {
+    return static_cast<std::size_t>(std::count_if(centroids.begin(), centroids.end(), [&](const Point3& c) {
+      return c.x >= b.lo.x - margin && c.x <= b.hi.x + margin && c.y >= b.lo.y - margin && c.y <= b.hi.y + margin &&
+             c.z >= b.lo.z - margin && c.z <= b.hi.z + margin;
+    }));
+  };
+  Bounds3 whole;
+  for (const Point3& c : centroids) whole.add(c);
+  EXPECT_EQ(ev.occluders_near_box(whole), 2000u);
+  for (int trial = 0; trial < 300; ++trial) {
+    const double extent = trial < 100 ? 0.05 : trial < 200 ? 1.0 : 6.0;
+    const Point3 a = Point3{-1 + 12 * u(rng), -1 + 6 * u(rng), -0.5 + 3 * u(rng)} + offset;
+    Bounds3 box;
+    box.add(a);
+    box.add(a + Vector3{extent * u(rng), extent * u(rng), extent * u(rng)});
+    const std::size_t near = ev.occluders_near_box(box);
+    EXPECT_GE(near, count_in(box, 0)) << "trial " << trial;
+    EXPECT_LE(near, count_in(box, cell * (1 + 1e-9))) << "trial " << trial;
   }
 }
 
