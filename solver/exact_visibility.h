@@ -65,7 +65,8 @@ class ExactVisibility {
   // occludes; the unoccluded factor is not evaluated unless shadows must be united.
   double hidden_factor(const Point3& p, const Vector3& n, const Triangle& source) const;
   // The same, looking only at `candidates` (occluder indices, from shaft_occluders of a hull that
-  // holds p and the source): no tree to walk for each of the points of one receiver.
+  // holds p and the source): source by source, the way Shadow::hidden_factor is checked against
+  // (the gather itself uses Shadow).
   double hidden_factor(const Point3& p, const Vector3& n, const Triangle& source, std::span<const int> candidates) const;
 
   // The part of `source` that p sees, kept as loops in the source's plane, so that the visible factor
