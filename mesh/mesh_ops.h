@@ -99,7 +99,8 @@ MeshFileResult read_mesh_file(const std::string& path);
 // Splits triangles along their longest edge (conforming, geometry preserved exactly) until every
 // triangle has area <= max_area and its longest edge <= √(8 max_area) (only slivers are split for
 // length: a well-shaped triangle of area A has edges below √(4A)). Used to turn surfaces into
-// radiosity patches.
+// radiosity patches. Lengths and areas within about 1e-6 of each other (and of the limits) count as
+// equal, so that the patches do not depend on the scene's scale or placement.
 // The input vertices keep their indices (midpoints are appended); output triangles are grouped by
 // the input triangle they lie in, in input order; each keeps its parent's orientation. Triangles
 // that cannot join a manifold, consistently oriented surface (fins, flipped faces of a soup) are

@@ -6,6 +6,7 @@
 #include <OpenMesh/Core/System/omstream.hh>
 
 #include <algorithm>
+#include <bit>
 #include <cctype>
 #include <cstdint>
 #include <filesystem>
@@ -317,6 +318,26 @@ Point3 midpoint(const Point3& a, const Point3& b) {
 // reaching from a shadow into the light carries the light's radiosity right up to the box.
 constexpr double kMaxEdgeSquaredPerArea = 8;
 
+// Patches must not depend on the scene's scale or placement. Lengths that tie exactly in one frame
+// (the equal sides of an isosceles half of a 2:1 rectangle, congruent triangles' areas) differ in their
+// last bits in another (millimetres, geo-referenced coordinates), and a comparison that breaks such a
+// tie by rounding splits a different edge, or splits in a different order, and so makes different
+// patches. So lengths and areas are compared rounded to 20 significant bits (tie_key: a relative step
+// of 2^-20 ≈ 1e-6, a total order, monotone) with ties broken by index, and a triangle counts as too
+// large only beyond 1 + kTieTolerance times the limit (a strip 0.1 m × 1 m is not split at 0.05 m²).
+constexpr double kTieTolerance = 1e-6;
+
+double tie_key(double x) {
+  const std::uint64_t bits = std::bit_cast<std::uint64_t>(x);
+  constexpr std::uint64_t kLow = (std::uint64_t{1} << 32) - 1;  // the mantissa's 32 lowest bits
+  return std::bit_cast<double>((bits + (kLow >> 1) + 1) & ~kLow);
+}
+
+bool too_large(double area, double longest_squared, double max_area) {
+  return area > max_area * (1 + kTieTolerance) ||
+         longest_squared > kMaxEdgeSquaredPerArea * max_area * (1 + kTieTolerance);
+}
+
 // Rivara's longest-edge propagation path (LEPP) bisection on an OpenMesh triangle mesh: to split a
 // face, walk to the neighbour across the longest edge until that edge is also the neighbour's
 // longest ("terminal edge"), split the terminal edge at its midpoint (splitting both faces, so the
@@ -331,10 +352,10 @@ class LeppSubdivider {
   void run() {
     for (const auto f : m_.faces()) push_if_too_large(f);
     while (!heap_.empty()) {
-      const auto [area, index] = heap_.top();
+      const auto [key, index] = heap_.top();
       heap_.pop();
       const OmTriMesh::FaceHandle f(index);
-      if (face_area(f) != area) continue;  // stale: the face was split since it was queued
+      if (tie_key(face_area(f)) != key) continue;  // stale: the face was split (halved) since it was queued
       refine(f);
     }
   }
@@ -358,7 +379,7 @@ class LeppSubdivider {
     double best_length = -1;
     for (const auto h : m_.fh_range(f)) {
       const auto e = m_.edge_handle(h);
-      const double l = edge_length_squared(e);
+      const double l = tie_key(edge_length_squared(e));
       if (l > best_length || (l == best_length && e.idx() > m_.edge_handle(best).idx()))
         best = h, best_length = l;
     }
@@ -367,8 +388,8 @@ class LeppSubdivider {
 
   void push_if_too_large(OmTriMesh::FaceHandle f) {
     const double a = face_area(f);
-    if (a > max_area_ || edge_length_squared(m_.edge_handle(longest_halfedge(f))) > kMaxEdgeSquaredPerArea * max_area_)
-      heap_.emplace(a, f.idx());
+    if (too_large(a, edge_length_squared(m_.edge_handle(longest_halfedge(f))), max_area_))
+      heap_.emplace(tie_key(a), f.idx());
   }
 
   void refine(OmTriMesh::FaceHandle f) {
@@ -409,7 +430,7 @@ class LeppSubdivider {
   OmTriMesh& m_;
   std::vector<int>& parent_;
   double max_area_;
-  std::priority_queue<std::pair<double, int>> heap_;  // (area, face index), largest first
+  std::priority_queue<std::pair<double, int>> heap_;  // (tie_key(area), face index), largest first
 };
 
 // Bisects one triangle on its own, longest edge first, appending midpoints to `vertices`.
@@ -420,13 +441,13 @@ void bisect_alone(std::array<int, 3> t, double max_area, std::vector<Point3>& ve
     t = stack.back();
     stack.pop_back();
     const Point3 p[3] = {vertices[t[0]], vertices[t[1]], vertices[t[2]]};
-    int k = 0;  // longest edge t[k] -> t[k+1]
-    double longest = -1;
+    int k = 0;  // longest edge t[k] -> t[k+1] (the first of tying ones)
+    double longest = -1, longest_key = -1;
     for (int i = 0; i < 3; ++i) {
       const double l = length_squared(p[(i + 1) % 3] - p[i]);
-      if (l > longest) longest = l, k = i;
+      if (tie_key(l) > longest_key) longest = l, longest_key = tie_key(l), k = i;
     }
-    if (!(triangle_area(p[0], p[1], p[2]) > max_area) && !(longest > kMaxEdgeSquaredPerArea * max_area)) {
+    if (!too_large(triangle_area(p[0], p[1], p[2]), longest, max_area)) {
       out.push_back(t);
       continue;
     }
@@ -458,8 +479,7 @@ SubdividedMesh subdivide_to_max_area_with_parents(const TriangleMesh& mesh, doub
     const Triangle tri = mesh.triangle(t);
     const double a = tri.area(), longest = tri.max_edge_length();
     splittable[t] = std::isfinite(a) && std::isfinite(longest);
-    any_too_large = any_too_large || (splittable[t] && max_area > 0 &&
-                                      (a > max_area || longest * longest > kMaxEdgeSquaredPerArea * max_area));
+    any_too_large = any_too_large || (splittable[t] && max_area > 0 && too_large(a, longest * longest, max_area));
   }
   if (!(max_area > 0) || !std::isfinite(max_area) || !any_too_large) {
     result.mesh = mesh;
