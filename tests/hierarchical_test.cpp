@@ -353,6 +353,10 @@ TEST(Hierarchical, GreyRoomLitByItsFloorAgreesWithTheDenseSolverAtItsEdges) {
   ASSERT_GT(n, 500);
   EXPECT_LT(worst, 0.02);
   EXPECT_LT(std::sqrt(sum2 / n), 0.005);
+  // A convex room has no occluder plane: every link is clear without rays, under either method.
+  EXPECT_EQ(hier.stats.link_rays, 0u);
+  EXPECT_EQ(dense.stats.link_rays, 0u);
+  EXPECT_GT(hier.stats.links_clear, 0u);
 }
 
 TEST(Hierarchical, FurnaceRoomWithFacetedSpheres) {
@@ -488,6 +492,9 @@ TEST(Hierarchical, AgreesWithDenseSolver) {
       EXPECT_NEAR(sol->probes[p].irradiance[0], dense.probes[p].irradiance[0], 5e-3 * dense.probes[p].irradiance[0])
           << "probe " << p;
     EXPECT_LT(sol->stats.links, dense.stats.links);
+    // The cube's planes clear some links without rays; the rest take rays.
+    EXPECT_GT(sol->stats.links_clear, 0u);
+    EXPECT_GT(sol->stats.link_rays, 0u);
   }
   EXPECT_GT(exact.stats.leaf_links_exact, 0u);
 }
