@@ -991,6 +991,16 @@ class PlaneVerdicts {
     return all_clear_ ||
            (!sides_.empty() && planes_.clear(cluster_sides_[c], other_is_cluster ? cluster_sides_[other] : sides_[other]));
   }
+  // A point (a probe's): its sides, then whether it sees element e, or cluster c, wholly.
+  OccluderPlanes::Sides sides(const Point3& p) const {
+    return sides_.empty() ? OccluderPlanes::Sides{} : planes_.sides(std::span<const Point3>(&p, 1));
+  }
+  bool point_sees(const OccluderPlanes::Sides& point, int e) const {
+    return all_clear_ || (!sides_.empty() && planes_.clear(point, sides_[e]));
+  }
+  bool point_sees_cluster(const OccluderPlanes::Sides& point, int c) const {
+    return all_clear_ || (!sides_.empty() && planes_.clear(point, cluster_sides_[c]));
+  }
 
  private:
   const OccluderPlanes planes_;
@@ -2828,10 +2838,13 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
         for (std::size_t q = range.begin(); q != range.end(); ++q) {
           const Point3& p = probe.points[q];
           const Point3 from = vis.lift(p, n);
+          const OccluderPlanes::Sides p_sides = planes.sides(p);
           double* e = &E[q * K];
-          // Rays to an element's samples, 16 before the first vote (as for links: four unanimous rays
-          // to a coarse element miss small occluders).
-          auto element_visibility = [&](const Element& S) {
+          // Wholly visible where the occluder planes say so; otherwise rays to the element's samples,
+          // 16 before the first vote (as for links: four unanimous rays to a coarse element miss small
+          // occluders).
+          auto element_visibility = [&](int node, const Element& S) {
+            if (planes.point_sees(p_sides, node)) return 1.0;
             return weighted_visible_fraction(
                 vis, [&](int j) { return std::pair{from, vis.lift(visibility_sample(S.tri, j), S.normal)}; },
                 [&](const Point3&, const Point3& qq) { return link_weight(p, n, qq, S.normal); }, 16);
@@ -2851,10 +2864,10 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
               // high when partly hidden elements were taken whole).
               double v = -1;
               if (splittable && f * (hi[node] - lo[node]) <= e_tolerance) {
-                v = element_visibility(S);
+                v = element_visibility(node, S);
                 if (v > 0 && v < 1 && f * std::max(std::abs(lo[node]), std::abs(hi[node])) > e_tolerance) v = -1;
               } else if (!splittable) {
-                v = element_visibility(S);
+                v = element_visibility(node, S);
               }
               if (v < 0) {
                 for (int c = 0; c < 4; ++c) stack.push_back(S.first_child + c);
@@ -2881,7 +2894,7 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
                 const double cos_p = std::max(0.0, -dot(n, w));
                 if (cos_p > 0 && view.projected > 0) {
                   Vector3 source_normal;
-                  const double v = weighted_visible_fraction(
+                  const double v = planes.point_sees_cluster(p_sides, c) ? 1.0 : weighted_visible_fraction(
                       vis,
                       [&](int j) {
                         const Hierarchy::ClusterSample S = cluster_sample(h, C, j);
