@@ -486,7 +486,7 @@ TEST(Hierarchical, ProbesInAConvexRoomTraceNoRaysAndAgreeWithTheDenseSolver) {
   const Solution hier = solve_with(b.scene(), SolverMethod::Hierarchical);
   const Solution dense = solve_with(b.scene(), SolverMethod::Dense);
   EXPECT_EQ(hier.stats.rays, bare.stats.rays);
-  EXPECT_EQ(hier.stats.link_rays, 0u);
+  EXPECT_EQ(hier.stats.rays, 0u);  // nor do the links, nor the closure (exact factors, not probe rays)
   ASSERT_EQ(hier.probes.size(), 3u);
   for (std::size_t p = 0; p < 3; ++p)
     EXPECT_NEAR(hier.probes[p].irradiance[0], dense.probes[p].irradiance[0], 5e-3 * dense.probes[p].irradiance[0])
@@ -567,6 +567,32 @@ TEST(Hierarchical, AnEmitterSealedInsideABoxSendsNothingUnderEitherMethod) {
       EXPECT_LT(std::abs(sealed.stats.relative_imbalance), 1e-5) << what;
     }
   }
+}
+
+// A convex room open to the sky: without occluder planes the hierarchical method tells closed leaves
+// from open ones by their exact factors to the input triangles, with no probe ray. Every leaf here
+// sees the sky: were one taken as closed, the closure balance would hold its row at 1 and keep light
+// in that escapes. Second method: the dense solver, whose rows are exact.
+TEST(Hierarchical, AConvexRoomOpenToTheSkyLetsTheLightOutWithoutRays) {
+  SceneBuilder b;
+  const int black = b.material("black", 0.0), grey = b.material("grey", 0.5);
+  int face = 0;  // bottom, top, then the four walls
+  for_each_box_face(Point3{0, 0, 0}, Point3{6, 4, 3}, [&](const Point3& o, const Vector3& u, const Vector3& v) {
+    const int k = face++;
+    if (k == 1) return;  // no ceiling
+    b.surface(k == 0 ? "floor" : "wall", k == 0 ? black : grey, rectangle(o, u, v), k == 0 ? 1.0 : 0.0);
+  });
+  b.max_patch_area(0.1);
+  b.scene().solver.tolerance = 1e-12;
+  const Solution hier = solve_with(b.scene(), SolverMethod::Hierarchical);
+  const Solution dense = solve_with(b.scene(), SolverMethod::Dense);
+  EXPECT_EQ(hier.stats.rays, 0u);
+  EXPECT_EQ(dense.stats.link_rays, 0u);
+  EXPECT_NEAR(hier.stats.escaped_W, dense.stats.escaped_W, 5e-3 * dense.stats.escaped_W);
+  EXPECT_GT(dense.stats.escaped_W, 0.3 * dense.stats.emitted_W);
+  EXPECT_LT(std::abs(hier.stats.relative_imbalance), 1e-9);
+  const double d = surface_mean(dense, 1, dense.irradiance), hh = surface_mean(hier, 1, hier.irradiance);
+  EXPECT_NEAR(hh, d, 5e-3 * d);
 }
 
 TEST(Hierarchical, EnergyCertificateBalancesInAnOpenRoom) {
