@@ -61,6 +61,11 @@ constexpr double kReceiversSeparated = 2.5;
 constexpr int kTabledClusterSamples = 16;  // see Hierarchy::cluster_samples
 constexpr std::size_t kResolveBatch = 4096;  // pending links traced together (Refiner::resolve)
 constexpr double kCachedSeparation = 1.5;  // see Refiner::leaf_exchange
+// Distances between elements are compared with their thresholds, and sizes with each other (which of
+// a pair to split), with a margin of 1e-9: a regular mesh has pairs exactly at a threshold (centroids
+// 4 radii apart) and congruent elements, where rounding would pick the side, differently at another
+// scale or placement of the same scene.
+constexpr double kTie = 1 + 1e-9;
 constexpr std::size_t kMaxBatch = 16;   // systems per gather pass (the GMRES batch size)
 constexpr int kMaxBalanceSweeps = 100;  // of the closure balance; the error usually halves per sweep
 // How closely balance() holds closed rows and columns at 1, as a share of the radiosity it moves (see
@@ -1086,7 +1091,7 @@ class Refiner {
     // kernel, log-singular near contact).
     const double separation = distance(R.centre, S.centre) / (R.radius + S.radius);
     // (The fixed rule's mean only where S's plane does not cut R: see cubature.h, front_part.)
-    const bool smooth = separation > 4 && !plane_cuts(R.tri, S.tri.v[0], S.tri.area_vector());
+    const bool smooth = separation > 4 * kTie && !plane_cuts(R.tri, S.tri.v[0], S.tri.area_vector());
     const double F = smooth ? mean : exchange_area(R.tri, S.tri, near_field_) / R.area;
     if (F <= 0) return;
     const double shift = F - (a[0] + a[1] + a[2]) / 3;  // the linear factor's mean is F exactly
@@ -1130,7 +1135,7 @@ class Refiner {
     const Vector3 d_vec = R.centre - C.centre;  // from the cluster to the receiver
     const double d = length(d_vec);
     const double d_min = d - C.radius - R.radius;
-    if (d >= kWellSeparated * scale && d_min > 0) {
+    if (d >= kWellSeparated * scale * kTie && d_min > 0) {
       const Vector3 w = d_vec / d;
       // Nothing passes only where no direction between the two faces both ways (see may_face); where
       // the line between the centres misses but others may not, the pair is split below, unless all
@@ -1160,7 +1165,7 @@ class Refiner {
         return;
       }
     }
-    if (C.radius >= R.radius || !h_.has_children(r)) {
+    if (C.radius * kTie >= R.radius || !h_.has_children(r)) {
       for (int ch : C.child) refine_to_cluster(r, ch, out);
     } else {
       const int first = h_.elements[r].first_child;
@@ -1189,7 +1194,7 @@ class Refiner {
       refine_pair(R.child[1], s, from_cluster, out);
     };
     auto split = [&] {
-      if (R.radius >= s_radius || (!from_cluster && !h_.has_children(s))) return split_receiver();
+      if (R.radius * kTie >= s_radius || (!from_cluster && !h_.has_children(s))) return split_receiver();
       if (from_cluster) {
         for (int c : h_.clusters[s].child) refine_pair(rc, c, true, out);
       } else {
@@ -1200,7 +1205,7 @@ class Refiner {
     const Vector3 between = R.centre - s_centre;  // from the source to the receivers
     const double d = length(between);
     const double d_min = d - scale;
-    if ((from_cluster && rc == s) || d < kReceiversSeparated * scale || d_min <= 0) return split();
+    if ((from_cluster && rc == s) || d < kReceiversSeparated * scale * kTie || d_min <= 0) return split();
     if (R.cone_sin > 1) return split_receiver();
     const Vector3 w = between / d;
     // α: between the receivers' cone axis and u = −w; θ: the cone's half-angle; δ: how far the
@@ -1277,7 +1282,7 @@ class Refiner {
         // receiver's centroid stands for it, for pairs whose bounding spheres are well apart.
         const Element& R = h_.elements[link.receiver];
         const Element& S = h_.elements[link.source];
-        const bool apart = distance(R.centre, S.centre) > 2 * (R.radius + S.radius);
+        const bool apart = distance(R.centre, S.centre) > 2 * (R.radius + S.radius) * kTie;
         transfer = apart ? 2 * element_B_[link.source] * point_triangle_factor(R.centre, R.normal, S.tri) : 1e300;
       }
       early[l] = transfer * area_weight(h_.elements[link.receiver].area) <= epsilon_;
@@ -1434,7 +1439,7 @@ class Refiner {
   void split(int r, int s, LinkBatch& out) const {
     const Element& R = h_.elements[r];
     const Element& S = h_.elements[s];
-    const bool split_receiver = h_.has_children(r) && (!h_.has_children(s) || R.area >= S.area);
+    const bool split_receiver = h_.has_children(r) && (!h_.has_children(s) || R.area * kTie >= S.area);
     if (split_receiver) {
       for (int k = 0; k < 4; ++k) refine_to_element(R.first_child + k, s, out);
     } else {
@@ -1856,7 +1861,7 @@ class LeafGather {
   static bool within(const Point3& p, const Element& S, double reach) {
     const double bound = reach + S.radius;
     if (length_squared(p - S.centre) > bound * bound * (1 + 1e-9)) return false;
-    return distance_to_triangle(p, S.tri) <= reach;
+    return distance_to_triangle(p, S.tri) <= reach * kTie;
   }
   // The degree-5 rule on each piece, weighted by its share of the leaf.
   static void leaf_rule(const Element& L, const std::vector<Triangle>& pieces, std::vector<Point3>& nodes,
@@ -1883,7 +1888,7 @@ class LeafGather {
       double r = 0;
       for (const Point3& v : t.v) r = std::max(r, distance(c, v));
       const bool close = std::any_of(near.begin(), near.end(), [&](const Triangle* S) {
-        return distance_to_triangle(c, *S) <= kRuleSplitDistance * r;
+        return distance_to_triangle(c, *S) <= kRuleSplitDistance * r * kTie;
       });
       if (!close) {
         next.push_back(t);
@@ -2033,7 +2038,7 @@ class LeafGather {
       // Where the source is not small beside the distance, the link reads its radiosity where the
       // leaf sees it (Link::bin), as the refiner's near links do.
       if (h_.has_children(entry.source) &&
-          (near || distance(L.centre, S.centre) <= kLeafFarField * (L.radius + S.radius)))
+          (near || distance(L.centre, S.centre) <= kLeafFarField * (L.radius + S.radius) * kTie))
         link.bin = source_point_of(S, L);
       link.bin[2] = proven ? kShaftClear : visible ? kRaysUnanimous : kVisibilityUnknown;
       if (!visible) pending.emplace_back(static_cast<int>(row.size()), f_row);
@@ -2907,7 +2912,7 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
             const Vector3 d_vec = p - C.centre;
             const double d = length(d_vec), d_min = d - C.radius;
             bool accepted = false;
-            if (d >= 2 * C.radius && d_min > 0) {
+            if (d >= 2 * C.radius * kTie && d_min > 0) {
               const Vector3 w = d_vec / d;
               const ClusterView view = cluster_view(h, c, w);
               if (cluster_B[c] * (view.projected + view.uncertainty) / (kPi * d_min * d_min) <= e_tolerance) {
