@@ -52,11 +52,14 @@ inline Vector3 perpendicular(const Vector3& n) {
 }
 constexpr Vector3 to_vector(const Point3& p) { return {p.x, p.y, p.z}; }
 constexpr Point3 to_point(const Vector3& v) { return {v.x, v.y, v.z}; }
-// Affine combination w0 a + w1 b + w2 c with w0 + w1 + w2 = 1 (barycentric point).
-constexpr Point3 barycentric(const Point3& a, const Point3& b, const Point3& c, double w0, double w1,
+// Affine combination w0 a + w1 b + w2 c with w0 + w1 + w2 = 1 (barycentric point), formed as
+// a + w1 (b − a) + w2 (c − a): a coordinate that a, b and c share comes out exactly (a point of a
+// wall at x = −3 lies on its plane, not 4e-16 behind it, which decided what exact visibility saw from
+// there), and the rounding does not depend on where the triangle sits. (w0 is implied.)
+constexpr Point3 barycentric(const Point3& a, const Point3& b, const Point3& c, double /*w0*/, double w1,
                              double w2) {
-  return {w0 * a.x + w1 * b.x + w2 * c.x, w0 * a.y + w1 * b.y + w2 * c.y,
-          w0 * a.z + w1 * b.z + w2 * c.z};
+  return {a.x + (w1 * (b.x - a.x) + w2 * (c.x - a.x)), a.y + (w1 * (b.y - a.y) + w2 * (c.y - a.y)),
+          a.z + (w1 * (b.z - a.z) + w2 * (c.z - a.z))};
 }
 
 struct Triangle {

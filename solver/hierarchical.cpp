@@ -614,6 +614,13 @@ Balanced balance(Hierarchy& h, const std::vector<char>& closed, const std::vecto
     if (closed[i] == 1 && raw[i] > 0) raw_error = std::max(raw_error, std::abs(1 - raw[i]));
     full_row[i] = closed[i] == 1 || (closed[i] == 2 && raw[i] >= 1);
   }
+  if (std::getenv("LAMBERT_DEBUG_ROWS") && final_balance)
+    for (std::size_t i = 0; i < N; ++i)
+      if (closed[i] == 1 && std::abs(1 - raw[i]) > 1e-4) {
+        const Triangle& t = patches[i].triangle;
+        std::fprintf(stderr, "row %zu err %.3g  (%.4f %.4f %.4f) (%.4f %.4f %.4f) (%.4f %.4f %.4f)\n", i, 1 - raw[i],
+                     t.v[0].x, t.v[0].y, t.v[0].z, t.v[1].x, t.v[1].y, t.v[1].z, t.v[2].x, t.v[2].y, t.v[2].z);
+      }
   if (h.leaf_scale.size() != N) h.leaf_scale.assign(N, 1.0);
   if (h.source_scale.size() != N) h.source_scale.assign(N, 1.0);
   // Over-relaxed: a held scale moves ω times as far as a plain sweep would take it, on a log scale.
