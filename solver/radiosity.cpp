@@ -321,7 +321,46 @@ double remove_contact_pieces(ContactImprint& imprint, const std::vector<Surface>
 }
 }  // namespace
 
+namespace {
+Solution solve_placed(const Scene& scene, const SolveControl& control);
+
+// The shift that brings a scene far from the origin to it, per axis: the centre of the surfaces'
+// bounding box on the axes where it lies more than ten times the box's diagonal away, else 0. There
+// every coordinate lies within a factor 2 of the centre, so x − c is exact (Sterbenz) and so is
+// (x − c) + c: the shifted scene is the same geometry, and its output vertices come back unchanged.
+Vector3 recentring_shift(const Scene& scene) {
+  Bounds3 box;
+  for (const Surface& s : scene.surfaces)
+    for (const Point3& v : s.mesh.vertices) box.add(v);
+  if (box.empty()) return {};
+  const double size = length(box.diagonal());
+  const Point3 c = box.center();
+  auto axis = [&](double centre) { return std::abs(centre) > 10 * size ? centre : 0.0; };
+  return {axis(c.x), axis(c.y), axis(c.z)};
+}
+}  // namespace
+
+// Geo-referenced scenes (a building at x ≈ 5e5, y ≈ 5.5e6 m) are solved about their own centre:
+// meshing, contacts, the occluder planes and every tolerance relative to an element's size then work
+// on coordinates of the scene's size instead of the offset's, whose last bits are a nanometre.
 Solution solve(const Scene& scene, const SolveControl& control) {
+  const Vector3 shift = recentring_shift(scene);
+  if (shift.x == 0 && shift.y == 0 && shift.z == 0) return solve_placed(scene, control);
+  Scene moved = scene;
+  for (Surface& s : moved.surfaces)
+    for (Point3& v : s.mesh.vertices) v = v - shift;
+  for (Light& light : moved.lights)
+    if (auto* point = std::get_if<PointLight>(&light)) point->position = point->position - shift;
+  for (Probe& probe : moved.probes)
+    for (Point3& p : probe.points) p = p - shift;
+  Solution sol = solve_placed(moved, control);
+  for (Patch& patch : sol.patches)
+    for (Point3& v : patch.triangle.v) v = v + shift;
+  return sol;
+}
+
+namespace {
+Solution solve_placed(const Scene& scene, const SolveControl& control) {
   // Contacts first: surfaces are cut where other surfaces touch or cross them (mesh_ops.h,
   // imprint_contacts), so that no patch straddles a box's footprint on a floor.
   // Slivers first: planar regions cut into thin strips are joined and triangulated again
@@ -400,7 +439,6 @@ Solution solve(const Scene& scene, const SolveControl& control) {
   return finish(std::move(sol));
 }
 
-namespace {
 Solution solve_method(const Scene& scene, const SolveControl& control) {
   // Method selection (scene.h SolverMethod): Auto estimates the meshed patch count from the areas.
   SolverMethod method = scene.solver.method;

@@ -575,8 +575,8 @@ TEST(Hierarchical, AnEmitterSealedInsideABoxSendsNothingUnderEitherMethod) {
 // the refinement's comparisons of distances with thresholds and of congruent elements' sizes allow
 // for rounding (kTie), where they used to pick a side by it (links 1 491 045 against 1 549 269 in the
 // issue-4 room at ×0.001, sensors 1.9e-4 apart). At geo-referenced coordinates the input itself is
-// rounded (the room's 6 m are 6 m ± 1e-9 there), so the links may differ (661 504 against 661 648,
-// measured) but the probes agree to 1e-5 (4e-6 measured). Not yet: at ×0.1 five sensors near one
+// rounded (the room's 6 m are 6 m ± 1e-9 there), so the links may differ (661 744 against 661 648,
+// measured) but the probes agree to 1e-5 (8e-7 measured). Not yet: at ×0.1 five sensors near one
 // corner of the issue-4 room differ by 2e-3.
 TEST(Hierarchical, ScaleAndPlacementDoNotChangeTheAnswer) {
   auto room = [](double scale, const Vector3& offset) {
@@ -606,6 +606,21 @@ TEST(Hierarchical, ScaleAndPlacementDoNotChangeTheAnswer) {
     // Patches come back where the scene put them.
     EXPECT_NEAR(other.patches[0].triangle.v[0].x, offset.x + scale * one.patches[0].triangle.v[0].x, 1e-6 * scale);
   }
+  // The dense solver, whose decisions have no thresholds of this kind, agrees to rounding: solve()
+  // works about the centre of a scene far from the origin (it read 4e-12 apart while it worked at the
+  // offset's magnitude, 3e-11 in the issue-4 room), and returns the patches where they were.
+  const Solution dense_one = solve_with(room(1, {0, 0, 0}).scene(), SolverMethod::Dense);
+  const Vector3 geo{512345.678, 5523456.789, 100};
+  const Scene placed_scene = room(1, geo).scene();
+  const Solution dense_placed = solve_with(placed_scene, SolverMethod::Dense);
+  for (std::size_t p = 0; p < dense_one.probes.size(); ++p)
+    EXPECT_NEAR(dense_placed.probes[p].irradiance[0], dense_one.probes[p].irradiance[0],
+                1e-12 * dense_one.probes[p].irradiance[0]) << p;
+  const Point3& corner = placed_scene.surfaces[0].mesh.vertices[0];
+  bool found = false;  // an input corner is a patch vertex, bit for bit
+  for (const Patch& patch : dense_placed.patches)
+    for (const Point3& v : patch.triangle.v) found = found || (v.x == corner.x && v.y == corner.y && v.z == corner.z);
+  EXPECT_TRUE(found);
 }
 
 // A convex room open to the sky: without occluder planes the hierarchical method tells closed leaves
