@@ -62,6 +62,12 @@ constexpr Point3 barycentric(const Point3& a, const Point3& b, const Point3& c, 
           a.z + (w1 * (b.z - a.z) + w2 * (c.z - a.z))};
 }
 
+// The midpoint of a and b: the same bits whichever comes first (an edge shared by two triangles has
+// one midpoint), and exact in a coordinate they share.
+constexpr Point3 midpoint(const Point3& a, const Point3& b) {
+  return {0.5 * (a.x + b.x), 0.5 * (a.y + b.y), 0.5 * (a.z + b.z)};
+}
+
 struct Triangle {
   std::array<Point3, 3> v;
   Vector3 area_vector() const { return cross(v[1] - v[0], v[2] - v[0]) * 0.5; }  // |.| = area, along normal

@@ -308,10 +308,6 @@ double triangle_area(const Point3& a, const Point3& b, const Point3& c) {
   return 0.5 * length(cross(b - a, c - a));
 }
 
-Point3 midpoint(const Point3& a, const Point3& b) {
-  return {0.5 * (a.x + b.x), 0.5 * (a.y + b.y), 0.5 * (a.z + b.z)};
-}
-
 // A patch is too large when its area exceeds the limit A, or when its longest edge exceeds √(8A): a
 // well-shaped patch of area A has L² ≤ 4A (2.3A equilateral), so only slivers (from the input, e.g. a
 // floor triangulated around a box's footprint) are split for length: a constant-radiosity sliver

@@ -47,9 +47,7 @@ double apply_rule(const TriangleRule& rule, const Triangle& t, F&& f) {
 
 // Midpoint split into four similar triangles (orientation preserved).
 inline std::array<Triangle, 4> split4(const Triangle& t) {
-  const Point3 m01 = barycentric(t.v[0], t.v[1], t.v[2], 0.5, 0.5, 0);
-  const Point3 m12 = barycentric(t.v[0], t.v[1], t.v[2], 0, 0.5, 0.5);
-  const Point3 m20 = barycentric(t.v[0], t.v[1], t.v[2], 0.5, 0, 0.5);
+  const Point3 m01 = midpoint(t.v[0], t.v[1]), m12 = midpoint(t.v[1], t.v[2]), m20 = midpoint(t.v[2], t.v[0]);
   return {Triangle{{t.v[0], m01, m20}}, Triangle{{m01, t.v[1], m12}}, Triangle{{m20, m12, t.v[2]}},
           Triangle{{m01, m12, m20}}};
 }
@@ -64,7 +62,7 @@ inline std::array<Triangle, 2> split2(const Triangle& t) {
     if (len > longest) longest = len, e = k;
   }
   const Point3 &a = t.v[e], &b = t.v[(e + 1) % 3], &c = t.v[(e + 2) % 3];
-  const Point3 m = barycentric(a, b, c, 0.5, 0.5, 0);
+  const Point3 m = midpoint(a, b);
   return {Triangle{{a, m, c}}, Triangle{{m, b, c}}};
 }
 

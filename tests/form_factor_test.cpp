@@ -39,6 +39,31 @@ std::vector<Triangle> ceiling_rect(double x0, double y0, double a, double b, dou
   return rectangle({x0, y0, c}, {0, b, 0}, {a, 0, 0});
 }
 
+// Two triangles sharing an edge, each split 1:4 (split4) or bisected (split2): the edge's midpoint is
+// the same bits from both sides, so that patches and elements cut this way meet at shared vertices
+// (refinement finds neighbours by exact vertex positions), and a point on a plane that all corners
+// share stays on it. Formed as a + (b − a)/2, 6 % of random edges gave two midpoints an ulp apart.
+TEST(Split, NeighboursShareTheirEdgesMidpointAndPlanesStayExact) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-10, 10);
+  int checked = 0;
+  for (int trial = 0; trial < 500; ++trial) {
+    const Point3 a{u(rng), u(rng), 0.3}, b{u(rng), u(rng), 0.3}, c{u(rng), u(rng), 0.3}, d{u(rng), u(rng), 0.3};
+    const Triangle left{{a, b, c}}, right{{b, a, d}};  // the edge a–b, in opposite directions
+    const auto l = split4(left), r = split4(right);
+    const Point3 from_left = l[0].v[1], from_right = r[0].v[1];  // m01 of each
+    ASSERT_EQ(from_left.x, from_right.x);
+    ASSERT_EQ(from_left.y, from_right.y);
+    for (const auto& child : l)
+      for (const Point3& v : child.v) ASSERT_EQ(v.z, 0.3);
+    ++checked;
+  }
+  EXPECT_EQ(checked, 500);
+  const Triangle t{{Point3{0, 0, 0.3}, Point3{0.1, 0, 0.3}, Point3{0.7, 0.05, 0.3}}};
+  for (const Triangle& half : split2(t))
+    for (const Point3& v : half.v) EXPECT_EQ(v.z, 0.3);
+}
+
 TEST(PointPolygonFactor, HowellB3CornerElement) {
   // V1: F = 1/(2π)[X/√(1+X²) atan(Y/√(1+X²)) + Y/√(1+Y²) atan(X/√(1+Y²))], c = 1.
   const struct { double X, Y, F; } rows[] = {{0.1, 0.1, 0.003141243123}, {0.2, 0.5, 0.02682750363},
