@@ -31,12 +31,9 @@ def box(lo, hi, inward):
     return {"vertices": vertices, "triangles": triangles}
 
 
-def main():
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("out")
-    parser.add_argument("max_patch_area", type=float)
-    args = parser.parse_args()
-    scene = {
+def scene(max_patch_area):
+    """The furnace scene (hierarchical method) at the given patch size."""
+    return {
         "lambert": 1,
         "name": "cube-room-furnace",
         "description": "6 x 4 x 3 m room with a floating 1 m cube, rho = 0.5 and M = 1 everywhere: B = 2 exactly.",
@@ -47,11 +44,18 @@ def main():
             {"name": "cube", "material": "grey", "mesh": box((2.5, 1.5, 1), (3.5, 2.5, 2), False),
              "emission": {"exitance": 1.0}},
         ],
-        "meshing": {"max_patch_area": args.max_patch_area},
+        "meshing": {"max_patch_area": max_patch_area},
         "solver": {"method": "hierarchical"},
     }
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("out")
+    parser.add_argument("max_patch_area", type=float)
+    args = parser.parse_args()
     with open(args.out, "w") as f:
-        json.dump(scene, f)
+        json.dump(scene(args.max_patch_area), f)
 
 
 if __name__ == "__main__":

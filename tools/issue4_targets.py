@@ -24,6 +24,7 @@ TOOLS = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, TOOLS)
 
 from cie_room_ladder import room as cie_room_scene  # noqa: E402
+import cube_room_furnace  # noqa: E402
 from cube_room_furnace import box  # noqa: E402
 
 
@@ -84,18 +85,8 @@ def cie_room(lambert, out, runs):
 def cube_room(lambert, out, runs):
     """The same room with a floating 1 m cube, a furnace (rho = 0.5, M = 1: B = 2), about 16 000
     patches, hierarchical with exact visibility: the closure (largest row-sum correction) and B."""
-    scene = {
-        "lambert": 1, "name": "cube-room-furnace",
-        "spectrum": {"mode": "spectral", "wavelengths_nm": [555]},
-        "materials": {"grey": {"reflectance": 0.5}},
-        "surfaces": [
-            {"name": "room", "material": "grey", "mesh": box((0, 0, 0), (6, 4, 3), True), "emission": {"exitance": 1.0}},
-            {"name": "cube", "material": "grey", "mesh": box((2.5, 1.5, 1), (3.5, 2.5, 2), False),
-             "emission": {"exitance": 1.0}},
-        ],
-        "meshing": {"max_patch_area": 0.01},
-        "solver": {"method": "hierarchical", "exact_visibility": True},
-    }
+    scene = cube_room_furnace.scene(0.01)
+    scene["solver"]["exact_visibility"] = True
     path = write(f"{out}/cube_room.json", scene)
     t, stats, peak = timed(lambert, path, f"{out}/cube_room.result.json", runs)
     worst_b = max(abs(p["radiosity"][0] / 2 - 1) for p in load(f"{out}/cube_room.result.json")["patches"])
