@@ -13,12 +13,14 @@
 #include <fstream>
 #include <functional>
 #include <map>
+#include <memory>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <random>
 #include <stdexcept>
 
 #include "server/bench_plot.h"
+#include "server/cli_parser.h"
 #include "server/scene_codec.h"
 #include "solver/closed_forms.h"
 #include "solver/radiosity.h"
@@ -384,36 +386,18 @@ double peak_rss_mb() {
   return usage.ru_maxrss / 1024.0;  // Linux: kilobytes
 }
 
-}  // namespace
-
-int run_bench(const std::vector<std::string>& args) {
+struct BenchArgs {
   std::string json_path, plot_path;
-  double scaling_max = 0;
+  bool quick = false;
+  std::optional<double> scaling_max;  // the largest patch count of a scaling run
+};
+
+int run_bench(const BenchArgs& args) {
+  const std::string& json_path = args.json_path;
+  const std::string& plot_path = args.plot_path;
   std::vector<double> ladder = {150, 300, 600, 1200, 2400};  // patches ≈ total area / max_patch_area
-  for (std::size_t k = 0; k < args.size(); ++k) {
-    if (args[k] == "-o" && k + 1 < args.size()) {
-      json_path = args[++k];
-    } else if (args[k] == "--plot" && k + 1 < args.size()) {
-      plot_path = args[++k];
-    } else if (args[k] == "--quick") {
-      ladder = {150, 600};
-    } else if (args[k] == "--scaling" && k + 1 < args.size()) {
-      try {
-        scaling_max = std::stod(args[++k]);
-      } catch (const std::exception&) {
-        scaling_max = 0;
-      }
-      if (!(scaling_max >= 1e3 && scaling_max <= 2e6)) {
-        std::cerr << "lambert bench: --scaling takes the largest patch count, 1000 to 2e6\n";
-        return 2;
-      }
-    } else {
-      std::cerr << "usage: lambert bench [--quick] [-o BENCH.json] [--plot BENCH.png]\n"
-                   "       lambert bench --scaling MAX_PATCHES [-o SCALING.json]\n";
-      return 2;
-    }
-  }
-  if (scaling_max > 0) return run_scaling(scaling_max, json_path);
+  if (args.quick) ladder = {150, 600};
+  if (args.scaling_max) return run_scaling(*args.scaling_max, json_path);
   std::printf("%-26s %-32s %9s %8s %10s %8s %9s %9s %10s\n", "scene", "error measure", "patches", "time_s",
               "rays", "Mrays/s", "peak_MB", "systems", "error");
   json rows = json::array();
@@ -466,5 +450,23 @@ int run_bench(const std::vector<std::string>& args) {
   }
   return 0;
 }
+
+}  // namespace
+
+cli::CommandSpec command_bench() {
+  return {"bench", "speed against error on built-in reference scenes with exact answers", [](cli::Options& o) {
+            auto args = std::make_shared<BenchArgs>();
+            o.output(args->json_path, "write the table (or the scaling run) as JSON");
+            const cli::Option plot = o.text("--plot", args->plot_path, "draw time against error into this PNG", "FILE");
+            const cli::Option quick = o.flag("--quick", args->quick, "two patch sizes per scene instead of five");
+            o.number("--scaling", args->scaling_max, 1e3, 2e6,
+                     "instead: time and memory from 10^3 patches up to this many")
+                .excludes(plot)
+                .excludes(quick);
+            return [args] { return run_bench(*args); };
+          }};
+}
+
+int run_bench(const std::vector<std::string>& args) { return cli::run_one(command_bench(), args); }
 
 }  // namespace lambert

@@ -1,30 +1,12 @@
-// Pieces every `lambert` subcommand shares: "SCENE.json [-o OUT]" arguments, reading a file, and the
-// terminal progress display.
+// Pieces the `lambert` subcommands share: reading a file, and decoding a scene file with its errors.
 #pragma once
 
-#include <functional>
 #include <optional>
 #include <string>
-#include <vector>
 
 #include "server/scene_codec.h"
 
 namespace lambert {
-
-struct SceneCommandArgs {
-  std::string scene_path;
-  std::string output_path;  // empty: none given
-};
-
-// Parses "SCENE.json [-o|--output FILE]". On bad usage prints "lambert COMMAND: why" and the usage
-// text to stderr and returns nullopt; "-h"/"--help" prints the usage to stdout and sets `help`.
-std::optional<SceneCommandArgs> parse_scene_command(const std::vector<std::string>& args,
-                                                    const std::string& command, const char* usage,
-                                                    bool& help);
-
-// Prints "PROGRAM: message" and the usage text to stderr; returns 2, the exit code of bad usage.
-// PROGRAM is "lambert" or "lambert COMMAND".
-int usage_error(const std::string& program, const std::string& message, const char* usage);
 
 // Whole file as bytes; false if it cannot be read.
 bool read_text_file(const std::string& path, std::string& text);
@@ -38,7 +20,8 @@ FileAccess command_line_file_access(const std::string& scene_path);
 // nullopt.
 std::optional<Scene> decode_scene_file(const std::string& path, const std::string& text);
 
-// A progress callback that redraws "solving: NN %" on stderr when stderr is a terminal (else none).
-std::function<void(double)> terminal_progress();
+// Reads and decodes the scene file at `path`; prints what is wrong ("lambert COMMAND: cannot read
+// PATH", or the decoder's errors) and returns nullopt.
+std::optional<Scene> load_scene_file(const std::string& command, const std::string& path);
 
 }  // namespace lambert

@@ -18,6 +18,8 @@
 #include <nlohmann/json.hpp>
 
 #include "server/cli_common.h"
+#include "server/cli_parser.h"
+#include "server/cli_progress.h"
 #include "solver/report.h"
 #include "solver/rgb_model.h"
 
@@ -33,12 +35,6 @@ constexpr double kWhite_x = 0.3127, kWhite_y = 0.3290;
 // difference is defined there.
 constexpr double kUnlitFraction = 1e-9;
 constexpr std::size_t kWorstListed = 10;
-
-constexpr const char* kUsage =
-    "usage: lambert compare-rgb SCENE.json [-o REPORT.json]\n"
-    "  solves the spectral scene as given and again in rgb mode, and reports per patch the CIEDE2000\n"
-    "  colour difference and the relative illuminance difference (summary on stdout, JSON with -o)\n";
-
 
 Statistics statistics(std::vector<double> values) {
   Statistics s;
@@ -303,15 +299,18 @@ std::string summarize_comparison(const Scene& spectral, const RgbComparison& c) 
   return s;
 }
 
-int run_compare_rgb(const std::vector<std::string>& args) {
-  bool help = false;
-  const auto parsed = parse_scene_command(args, "compare-rgb", kUsage, help);
-  if (!parsed) return help ? 0 : 2;
-  const std::string& scene_path = parsed->scene_path;
-  const std::string& output_path = parsed->output_path;
+namespace {
+
+struct CompareArgs {
+  std::string scene_path, output_path;
+};
+
+int run_compare(const CompareArgs& args) {
+  const std::string& scene_path = args.scene_path;
+  const std::string& output_path = args.output_path;
   std::string text;
   if (!read_text_file(scene_path, text)) {
-    std::cerr << "lambert: cannot read " << scene_path << "\n";
+    std::cerr << "lambert compare-rgb: cannot read " << scene_path << "\n";
     return 2;
   }
   const std::optional<Scene> spectral = decode_scene_file(scene_path, text);
@@ -327,7 +326,7 @@ int run_compare_rgb(const std::vector<std::string>& args) {
   }
 
   SolveControl control;
-  control.progress = terminal_progress();
+  show_progress_on_terminal(control);
   try {
     const RgbComparison comparison = compare_rgb(*spectral, *rgb.scene, control);
     std::cout << summarize_comparison(*spectral, comparison);
@@ -338,19 +337,35 @@ int run_compare_rgb(const std::vector<std::string>& args) {
       std::ofstream out(output_path, std::ios::binary);
       out << encode_comparison(*spectral, comparison) << "\n";
       if (!out) {
-        std::cerr << "lambert: cannot write " << output_path << "\n";
+        std::cerr << "lambert compare-rgb: cannot write " << output_path << "\n";
         return 1;
       }
       std::cout << "report written to " << output_path << "\n";
     }
   } catch (const SolveError& e) {
-    std::cerr << "lambert: " << e.what() << "\n";
+    std::cerr << "lambert compare-rgb: " << e.what() << "\n";
     return 1;
   } catch (const std::exception& e) {
-    std::cerr << "lambert: compare-rgb failed: " << e.what() << "\n";
+    std::cerr << "lambert compare-rgb: failed: " << e.what() << "\n";
     return 1;
   }
   return 0;
 }
+
+}  // namespace
+
+cli::CommandSpec command_compare_rgb() {
+  return {"compare-rgb", "the price of the three-sample RGB model: per-patch dE00 and lux against spectral",
+          [](cli::Options& o) {
+            auto args = std::make_shared<CompareArgs>();
+            o.input("SCENE.json", args->scene_path, "a spectral scene; its rgb twin is made from it");
+            o.output(args->output_path, "also write the comparison as JSON");
+            o.footer("Solves the scene as given and again in rgb mode, and reports per patch the CIEDE2000\n"
+                     "colour difference and the relative illuminance difference (summary on stdout).");
+            return [args] { return run_compare(*args); };
+          }};
+}
+
+int run_compare_rgb(const std::vector<std::string>& args) { return cli::run_one(command_compare_rgb(), args); }
 
 }  // namespace lambert

@@ -12,6 +12,8 @@
 #include <stdexcept>
 
 #include "server/cli_common.h"
+#include "server/cli_parser.h"
+#include "server/cli_progress.h"
 #include "server/render.h"
 #include "server/scene_codec.h"
 #include "solver/form_factor.h"
@@ -26,15 +28,18 @@ namespace {
 
 using json = nlohmann::json;
 
-constexpr const char* kRenderUsage =
-    "usage: lambert render (SCENE.json | RESULT.json) -o IMAGE.png [--camera \"eye=X,Y,Z look=X,Y,Z up=X,Y,Z\n"
-    "                      fov=DEG size=WxH\"] [--false-color illuminance|luminance] [--white CD_M2] [--smooth]\n"
-    "  A scene is solved first (its specular lobes are drawn too); a result is drawn as it is.\n"
-    "  Camera positions are in scene units; default: the scene seen from -z, +y up, 40 degrees, 640x480.\n"
-    "  --white: the luminance shown as white (default: the brightest patch that does not emit).\n"
-    "  --smooth: interpolate the patches' radiance between their vertices instead of drawing facets.\n";
+struct RenderArgs {
+  std::string input, output, camera_text;
+  std::string false_colour = "none";
+  std::optional<double> white_cd_m2;
+  bool smooth = false;
+};
 
-int render_usage_error(const std::string& message) { return usage_error("lambert render", message, kRenderUsage); }
+constexpr const char* kRenderFooter =
+    "A scene is solved first (its specular lobes are drawn too); a result is drawn as it is.\n"
+    "Camera positions are in scene units; default: the scene seen from -z, +y up, 40 degrees, 640x480.";
+
+int render_usage_error(const std::string& message) { return cli::usage_error("render", message); }
 
 // The linear sRGB value of a spectral radiance (or of three rgb-mode channels).
 std::array<double, 3> linear_srgb(const std::vector<double>& L, const Scene& scene) {
@@ -180,49 +185,11 @@ RenderPatches result_render_patches(const std::string& result_json, std::optiona
   return std::move(result.patches);
 }
 
-int render_command(const std::vector<std::string>& args) {
-  std::string input, output, camera_text, false_colour = "none";
-  std::optional<double> white;
-  bool smooth = false;
-  for (std::size_t k = 0; k < args.size(); ++k) {
-    const std::string& a = args[k];
-    auto value = [&](std::string& into) {
-      if (k + 1 >= args.size()) return false;
-      into = args[++k];
-      return true;
-    };
-    if (a == "-h" || a == "--help") {
-      std::cout << kRenderUsage;
-      return 0;
-    } else if (a == "-o" || a == "--output") {
-      if (!value(output)) return render_usage_error(a + " needs a file name");
-    } else if (a == "--camera") {
-      if (!value(camera_text)) return render_usage_error("--camera needs a value");
-    } else if (a == "--false-color" || a == "--false-colour") {
-      if (!value(false_colour)) return render_usage_error(a + " needs illuminance or luminance");
-      if (false_colour != "illuminance" && false_colour != "luminance")
-        return render_usage_error(a + " " + false_colour + ": expected illuminance or luminance");
-    } else if (a == "--white") {
-      std::string text;
-      if (!value(text)) return render_usage_error("--white needs a luminance in cd/m2");
-      char* end = nullptr;
-      const double w = std::strtod(text.c_str(), &end);
-      if (text.empty() || *end != '\0' || !(w > 0) || !std::isfinite(w))
-        return render_usage_error("--white " + text + ": expected a positive luminance in cd/m2");
-      white = w;
-    } else if (a == "--smooth") {
-      smooth = true;
-    } else if (!a.empty() && a[0] == '-') {
-      return render_usage_error("unknown option " + a);
-    } else if (input.empty()) {
-      input = a;
-    } else {
-      return render_usage_error("one input file only (got " + input + " and " + a + ")");
-    }
-  }
-  if (input.empty()) return render_usage_error("no input file (a scene or a result)");
-  if (output.empty()) return render_usage_error("no output image (-o IMAGE.png)");
+namespace {
 
+int run_render(const RenderArgs& args) {
+  const std::string& input = args.input;
+  const std::string& output = args.output;
   std::string text;
   if (!read_text_file(input, text)) {
     std::cerr << "lambert render: cannot read " << input << "\n";
@@ -234,11 +201,11 @@ int render_command(const std::vector<std::string>& args) {
     return 2;
   }
   RenderOptions options;
-  options.false_colour = false_colour == "illuminance" ? FalseColour::Illuminance
-                         : false_colour == "luminance" ? FalseColour::Luminance
-                                                       : FalseColour::None;
-  options.white_cd_m2 = white;
-  options.smooth = smooth;
+  options.false_colour = args.false_colour == "illuminance" ? FalseColour::Illuminance
+                         : args.false_colour == "luminance" ? FalseColour::Luminance
+                                                            : FalseColour::None;
+  options.white_cd_m2 = args.white_cd_m2;
+  options.smooth = args.smooth;
   RenderPatches patches;
   double unit_m = 1;  // metres per camera unit (the scene's unit)
   // Kept alive for the specular shading, which refers to them.
@@ -254,7 +221,7 @@ int render_command(const std::vector<std::string>& args) {
       if (!scene) return 2;
       unit_m = scene->unit_m;
       SolveControl control;
-      control.progress = terminal_progress();
+      show_progress_on_terminal(control);
       solution = solve(*scene, control);
       patches = render_patches(*scene, *solution, make_report(*scene, *solution));
       options.view_dependent = specular_shading(*scene, *solution);
@@ -275,7 +242,7 @@ int render_command(const std::vector<std::string>& args) {
   camera.eye = {camera.eye.x / unit_m, camera.eye.y / unit_m, camera.eye.z / unit_m};
   camera.look = {camera.look.x / unit_m, camera.look.y / unit_m, camera.look.z / unit_m};
   try {
-    camera = parse_camera(camera_text, camera);
+    camera = parse_camera(args.camera_text, camera);
   } catch (const std::invalid_argument& e) {
     return render_usage_error(e.what());
   }
@@ -291,5 +258,26 @@ int render_command(const std::vector<std::string>& args) {
             << patches.triangles.size() << " patches)\n";
   return 0;
 }
+
+}  // namespace
+
+cli::CommandSpec command_render() {
+  return {"render", "a picture of a solution, or a false-colour map with its scale", [](cli::Options& o) {
+            auto args = std::make_shared<RenderArgs>();
+            o.input("INPUT", args->input, "a scene (solved first) or a result of lambert solve");
+            o.output(args->output, "the PNG image to write").required();
+            o.text("--camera", args->camera_text,
+                   "\"eye=X,Y,Z look=X,Y,Z up=X,Y,Z fov=DEG size=WxH\", any of them, in scene units");
+            o.choice("--false-color,--false-colour", args->false_colour, {"none", "illuminance", "luminance"},
+                     "draw this quantity in false colour, with its scale");
+            o.positive("--white", args->white_cd_m2,
+                       "the luminance in cd/m2 shown as white (default: the brightest patch that does not emit)");
+            o.flag("--smooth", args->smooth, "interpolate the radiance between the patches' vertices");
+            o.footer(kRenderFooter);
+            return [args] { return run_render(*args); };
+          }};
+}
+
+int render_command(const std::vector<std::string>& args) { return cli::run_one(command_render(), args); }
 
 }  // namespace lambert

@@ -7,136 +7,89 @@
 #include <signal.h>
 
 #include <atomic>
-#include <charconv>
-#include <cmath>
 #include <filesystem>
 #include <iostream>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <string>
 #include <thread>
 #include <variant>
 #include <vector>
 
-#include "server/cli_common.h"
+#include "server/cli_parser.h"
 #include "server/http_server.h"
 #include "server/job_store.h"
 
 namespace lambert {
 namespace {
 
-constexpr const char* kServeUsage =
-    "usage: lambert serve [options]\n"
-    "  --host ADDR            address to bind (default 127.0.0.1; 0.0.0.0 for every interface)\n"
-    "  --port N               TCP port (default 8080; 0 picks a free one)\n"
-    "  --threads N            solver workers: scenes solved at once (default 2)\n"
-    "  --http-threads N       connections served at once (default 8)\n"
-    "  --data-dir DIR         keep jobs and results in DIR (kept across restarts)\n"
-    "  --mesh-root DIR        allow \"file\" surfaces, relative to DIR and never outside it\n"
-    "  --max-body-bytes N     largest request body (default 67108864)\n"
-    "  --max-patches N        largest patch count of a solve (default 10000)\n"
-    "  --job-time-limit-s S   running time limit per solve, 0 for none (default 300)\n"
-    "  --queue-size N         jobs waiting for a worker before 503 (default 64)\n"
-    "  --result-ttl-s S       keep finished jobs for S seconds, 0 for ever (default 604800)\n"
-    "  --access-log           one line per request on stderr\n";
+// What `lambert serve` is started with: the values as given, checked by the parser.
+struct ServeArgs {
+  std::string host = "127.0.0.1";
+  int port = 8080;
+  std::size_t workers = 2;
+  std::size_t http_threads = HttpServerOptions{}.http_threads;
+  std::string data_dir, mesh_root;  // empty: none
+  std::size_t max_body_bytes = HttpServerOptions{}.max_body_bytes;
+  std::size_t max_patches = 10000;
+  double job_time_limit_s = 300;
+  std::size_t queue_size = 64;
+  double result_ttl_s = 604800;
+  bool access_log = false;
+};
 
-int usage_error(const std::string& message) { return lambert::usage_error("lambert serve", message, kServeUsage); }
+constexpr double kMaxSeconds = 1e9;
 
-template <typename T>
-std::optional<T> parse_number(const std::string& text, T lo, T hi) {
-  T value{};
-  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
-  if (ec != std::errc() || end != text.data() + text.size()) return std::nullopt;
-  if constexpr (std::is_floating_point_v<T>)
-    if (!std::isfinite(value)) return std::nullopt;
-  if (value < lo || value > hi) return std::nullopt;
-  return value;
+void define_options(cli::Options& o, ServeArgs& a) {
+  o.text("--host", a.host, "address to bind (0.0.0.0 for every interface)");
+  o.integer("--port", a.port, 0, 65535, "TCP port; 0 picks a free one");
+  o.count("--threads", a.workers, 1, 256, "solver workers: scenes solved at once");
+  o.count("--http-threads", a.http_threads, 2, 1024, "connections served at once");
+  o.text("--data-dir", a.data_dir, "keep jobs and results in DIR (kept across restarts)", "DIR");
+  o.directory("--mesh-root", a.mesh_root, "allow \"file\" surfaces, relative to DIR and never outside it");
+  o.count("--max-body-bytes", a.max_body_bytes, 1, std::size_t{1} << 40, "largest request body in bytes");
+  o.count("--max-patches", a.max_patches, 1, std::numeric_limits<std::size_t>::max(),
+          "largest patch count of a solve");
+  o.number("--job-time-limit-s", a.job_time_limit_s, 0, kMaxSeconds, "running time limit per solve, 0 for none");
+  o.count("--queue-size", a.queue_size, 1, 1000000, "jobs waiting for a worker before 503");
+  o.number("--result-ttl-s", a.result_ttl_s, 0, kMaxSeconds, "keep finished jobs for S seconds, 0 for ever");
+  o.flag("--access-log", a.access_log, "one line per request on stderr");
 }
 
 struct ServeOptions {
-  std::string host = "127.0.0.1";
-  int port = 8080;
+  std::string host;
+  int port = 0;
   JobStoreOptions jobs;
   HttpServerOptions http;
 };
 
-// Returns the options, or the exit status of a usage error (already printed).
-std::variant<ServeOptions, int> parse(const std::vector<std::string>& args) {
+// The service's options from the parsed arguments, or the exit status of a usage error (printed).
+std::variant<ServeOptions, int> serve_options(const ServeArgs& a) {
   ServeOptions o;
-  o.jobs.workers = 2;
-  o.jobs.queue_size = 64;
-  o.jobs.max_patches = 10000;
-  o.jobs.time_limit = std::chrono::seconds(300);
-  o.jobs.result_ttl = std::chrono::seconds(604800);
-  constexpr double kMaxSeconds = 1e9;
-  for (std::size_t k = 0; k < args.size(); ++k) {
-    const std::string& a = args[k];
-    if (a == "-h" || a == "--help") {
-      std::cout << kServeUsage;
-      return 0;
-    }
-    if (a == "--access-log") {
-      o.http.access_log = true;
-      continue;
-    }
-    if (k + 1 >= args.size()) return usage_error(a.rfind("--", 0) == 0 ? a + " needs a value" : "unexpected argument " + a);
-    const std::string& v = args[++k];
-    auto bad = [&](const std::string& what) { return usage_error(a + ": '" + v + "' is not " + what); };
-    if (a == "--host") {
-      if (v.empty()) return bad("an address");
-      o.host = v;
-    } else if (a == "--port") {
-      auto n = parse_number<int>(v, 0, 65535);
-      if (!n) return bad("a port number (0-65535)");
-      o.port = *n;
-    } else if (a == "--threads") {
-      auto n = parse_number<std::size_t>(v, 1, 256);
-      if (!n) return bad("a number of workers (1-256)");
-      o.jobs.workers = *n;
-    } else if (a == "--http-threads") {
-      auto n = parse_number<std::size_t>(v, 2, 1024);
-      if (!n) return bad("a number of threads (2-1024)");
-      o.http.http_threads = *n;
-    } else if (a == "--data-dir") {
-      if (v.empty()) return bad("a directory");
-      o.jobs.data_dir = std::filesystem::path(v);
-    } else if (a == "--mesh-root") {
-      std::error_code ec;
-      if (v.empty() || !std::filesystem::is_directory(v, ec)) return bad("an existing directory");
-      o.http.mesh_root = std::filesystem::canonical(v, ec);
-      if (ec) return bad("a usable directory");
-    } else if (a == "--max-body-bytes") {
-      auto n = parse_number<std::size_t>(v, 1, std::size_t{1} << 40);
-      if (!n) return bad("a size in bytes");
-      o.http.max_body_bytes = *n;
-    } else if (a == "--max-patches") {
-      auto n = parse_number<std::size_t>(v, 1, std::numeric_limits<std::size_t>::max());
-      if (!n) return bad("a positive patch count");
-      o.jobs.max_patches = *n;
-    } else if (a == "--job-time-limit-s") {
-      auto s = parse_number<double>(v, 0, kMaxSeconds);
-      if (!s) return bad("a number of seconds");
-      o.jobs.time_limit = std::chrono::duration<double>(*s);
-    } else if (a == "--queue-size") {
-      auto n = parse_number<std::size_t>(v, 1, 1000000);
-      if (!n) return bad("a queue length (1-1000000)");
-      o.jobs.queue_size = *n;
-    } else if (a == "--result-ttl-s") {
-      auto s = parse_number<double>(v, 0, kMaxSeconds);
-      if (!s) return bad("a number of seconds");
-      o.jobs.result_ttl = std::chrono::duration<double>(*s);
-    } else {
-      return usage_error("unknown option " + a);
-    }
+  o.host = a.host;
+  o.port = a.port;
+  if (a.host.empty()) return cli::usage_error("serve", "--host: expected an address");
+  o.jobs.workers = a.workers;
+  o.jobs.queue_size = a.queue_size;
+  o.jobs.max_patches = a.max_patches;
+  o.jobs.time_limit = std::chrono::duration<double>(a.job_time_limit_s);
+  o.jobs.result_ttl = std::chrono::duration<double>(a.result_ttl_s);
+  if (!a.data_dir.empty()) o.jobs.data_dir = std::filesystem::path(a.data_dir);
+  o.http.http_threads = a.http_threads;
+  o.http.max_body_bytes = a.max_body_bytes;
+  o.http.access_log = a.access_log;
+  if (!a.mesh_root.empty()) {
+    std::error_code ec;
+    o.http.mesh_root = std::filesystem::canonical(a.mesh_root, ec);
+    if (ec) return cli::usage_error("serve", "--mesh-root: '" + a.mesh_root + "' is not a usable directory");
   }
   o.jobs.files = http_file_access(o.http.mesh_root);
   return o;
 }
 
-}  // namespace
-
-int run_serve(const std::vector<std::string>& args) {
-  auto parsed = parse(args);
+int run_serve(const ServeArgs& args) {
+  auto parsed = serve_options(args);
   if (auto* status = std::get_if<int>(&parsed)) return *status;
   ServeOptions& o = std::get<ServeOptions>(parsed);
 
@@ -187,5 +140,17 @@ int run_serve(const std::vector<std::string>& args) {
   std::cerr << "lambert serve: stopped\n";
   return ok ? 0 : 1;
 }
+
+}  // namespace
+
+cli::CommandSpec command_serve() {
+  return {"serve", "the HTTP service (docs/API.md): solves and jobs over HTTP", [](cli::Options& o) {
+            auto args = std::make_shared<ServeArgs>();
+            define_options(o, *args);
+            return [args] { return run_serve(*args); };
+          }};
+}
+
+int run_serve(const std::vector<std::string>& args) { return cli::run_one(command_serve(), args); }
 
 }  // namespace lambert
