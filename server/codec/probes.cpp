@@ -1,0 +1,100 @@
+// "probes" (SPEC §1): irradiance sensors at one point or on a grid of cell centres, each with the
+// normal of the plane it measures on.
+#include <map>
+#include <utility>
+
+#include "server/codec/sections.h"
+
+namespace lambert::codec {
+namespace {
+
+constexpr long long kMaxProbeGridSide = 10000;
+constexpr long long kMaxProbeGridPoints = 1000000;  // memory guard for one grid (24 MB of points)
+
+// The points of "grid": {origin, u, v, nu, nv}; false after an error. The grid's shape (zero or
+// parallel sides, too many points) is checked only once its members and the probe's normal
+// (normal_ok) read well.
+bool decode_grid_points(Decoder& d, const json& jg, const std::string& pg, bool normal_ok,
+                        Probe& probe) {
+  if (!d.object(jg, pg, {"origin", "u", "v", "nu", "nv"})) return false;
+  const json* jo = d.required(jg, pg, "origin");
+  const json* ju = d.required(jg, pg, "u");
+  const json* jv = d.required(jg, pg, "v");
+  const json* jnu = d.required(jg, pg, "nu");
+  const json* jnv = d.required(jg, pg, "nv");
+  auto origin = jo ? d.point(*jo, pg + "/origin") : std::nullopt;
+  auto u = ju ? d.triple(*ju, pg + "/u", true) : std::nullopt;
+  auto v = jv ? d.triple(*jv, pg + "/v", true) : std::nullopt;
+  std::optional<long long> nu, nv;
+  if (jnu) nu = d.whole(*jnu, pg + "/nu", 1, kMaxProbeGridSide);
+  if (jnv) nv = d.whole(*jnv, pg + "/nv", 1, kMaxProbeGridSide);
+  if (!origin || !u || !v || !nu || !nv || !normal_ok) return false;
+  const auto du = unit_vector(*u), dv = unit_vector(*v);
+  if (!du || !dv || length(cross(*du, *dv)) < 1e-9) {
+    d.error(pg, !du ? "u must not be the zero vector"
+                    : !dv ? "v must not be the zero vector" : "u and v must not be parallel");
+    return false;
+  }
+  if (*nu * *nv > kMaxProbeGridPoints) {
+    d.error(pg, "nu × nv = " + std::to_string(*nu * *nv) + " points; at most " +
+                    std::to_string(kMaxProbeGridPoints) + " per grid");
+    return false;
+  }
+  probe.is_grid = true;
+  probe.nu = static_cast<int>(*nu);
+  probe.nv = static_cast<int>(*nv);
+  probe.points.reserve(static_cast<std::size_t>(*nu * *nv));
+  // Cell centres, u fastest: origin + (a + 1/2)/nu u + (b + 1/2)/nv v.
+  for (long long b = 0; b < *nv; ++b)
+    for (long long a = 0; a < *nu; ++a) {
+      const Point3 q = *origin + *u * ((a + 0.5) / static_cast<double>(*nu)) +
+                       *v * ((b + 0.5) / static_cast<double>(*nv));
+      probe.points.push_back(d.metres(q));
+    }
+  return true;
+}
+
+void decode_probe(Decoder& d, const json& j, std::size_t i,
+                  std::map<std::string, std::string>& names) {
+  const std::string p = index_ptr("/probes", i);
+  if (!d.object(j, p, {"name", "position", "grid", "normal"})) return;
+  Probe probe;
+  probe.name = d.unique_name(j, p, "probe" + std::to_string(i), names, "probe");
+  bool ok = true;
+  if (const json* jn = d.required(j, p, "normal")) {
+    auto v = d.direction(*jn, p + "/normal");
+    if (v) probe.normal = *v;
+    else ok = false;
+  } else {
+    ok = false;
+  }
+  const json* jp = d.member(j, "position");
+  const json* jg = d.member(j, "grid");
+  if (jp && jg) {
+    d.error(p, "give position or grid, not both");
+    return;
+  }
+  if (!jp && !jg) {
+    d.error(p, "a probe needs position or grid");
+    return;
+  }
+  if (jp) {
+    auto q = d.point(*jp, p + "/position");
+    if (!q || !ok) return;
+    probe.points.push_back(d.metres(*q));
+  } else if (!decode_grid_points(d, *jg, p + "/grid", ok, probe)) {
+    return;
+  }
+  d.scene().probes.push_back(std::move(probe));
+}
+
+}  // namespace
+
+void decode_probes(Decoder& d, const json& doc) {
+  const json* probes = d.member(doc, "probes");
+  if (!probes || !d.array(*probes, "/probes")) return;
+  std::map<std::string, std::string> names;  // name -> pointer of its first use
+  for (std::size_t i = 0; i < probes->size(); ++i) decode_probe(d, (*probes)[i], i, names);
+}
+
+}  // namespace lambert::codec

@@ -1,0 +1,16 @@
+// The rooms of the scene decoder, one per top-level section of a scene (SPEC §1), in the order
+// server/scene_codec.cpp walks them. The spectrum section is in spectra.h (every room samples
+// spectra on its grid). Each reads its section of doc into d.scene() and reports what is wrong.
+#pragma once
+
+#include "server/codec/decoder.h"
+
+namespace lambert::codec {
+
+void decode_materials(Decoder& d, const json& doc);  // materials.cpp
+void decode_surfaces(Decoder& d, const json& doc);   // surfaces.cpp (needs the materials)
+void decode_lights(Decoder& d, const json& doc);     // lights/dispatch.cpp
+void decode_probes(Decoder& d, const json& doc);     // probes.cpp
+void decode_options(Decoder& d, const json& doc);    // options.cpp: meshing, solver, output
+
+}  // namespace lambert::codec
