@@ -33,6 +33,8 @@
 #include "solver/linear_solve.h"
 #include "solver/occluder_planes.h"
 #include "solver/patch_refinement.h"
+#include "solver/pipeline/direct_light.h"
+#include "solver/pipeline/hemisphere.h"
 #include "solver/solids.h"
 #include "solver/visibility.h"
 #include "solver/visible_fraction.h"
@@ -595,7 +597,7 @@ struct Balanced {
   double residual = 0;   // the largest error of a held row or column after the balance
 };
 
-Balanced balance(Hierarchy& h, const std::vector<char>& closed, const std::vector<double>& sends,
+Balanced balance(Hierarchy& h, const std::vector<Hemisphere>& closed, const std::vector<double>& sends,
                  const std::vector<char>& emits, const std::vector<Patch>& patches, double target,
                  bool final_balance, const SolveControl& control) {
   const std::size_t N = h.leaves.size();
@@ -611,12 +613,12 @@ Balanced balance(Hierarchy& h, const std::vector<char>& closed, const std::vecto
   // already gather a whole hemisphere. Columns held at 1: closed leaves; capped at 1: open ones.
   std::vector<char> full_row(N);
   for (std::size_t i = 0; i < N; ++i) {
-    if (closed[i] == 1 && raw[i] > 0) raw_error = std::max(raw_error, std::abs(1 - raw[i]));
-    full_row[i] = closed[i] == 1 || (closed[i] == 2 && raw[i] >= 1);
+    if (closed[i] == Hemisphere::Closed && raw[i] > 0) raw_error = std::max(raw_error, std::abs(1 - raw[i]));
+    full_row[i] = closed[i] == Hemisphere::Closed || (closed[i] == Hemisphere::Leaking && raw[i] >= 1);
   }
   if (std::getenv("LAMBERT_DEBUG_ROWS") && final_balance)
     for (std::size_t i = 0; i < N; ++i)
-      if (closed[i] == 1 && std::abs(1 - raw[i]) > 1e-4) {
+      if (closed[i] == Hemisphere::Closed && std::abs(1 - raw[i]) > 1e-4) {
         const Triangle& t = patches[i].triangle;
         std::fprintf(stderr, "row %zu err %.3g  (%.4f %.4f %.4f) (%.4f %.4f %.4f) (%.4f %.4f %.4f)\n", i, 1 - raw[i],
                      t.v[0].x, t.v[0].y, t.v[0].z, t.v[1].x, t.v[1].y, t.v[1].z, t.v[2].x, t.v[2].y, t.v[2].z);
@@ -650,13 +652,13 @@ Balanced balance(Hierarchy& h, const std::vector<char>& closed, const std::vecto
     std::fill(root_sent.begin(), root_sent.end(), 0.0);
     std::fill(root_gathered.begin(), root_gathered.end(), 0.0);
     for (std::size_t j = 0; j < N; ++j) {
-      if (closed[j] != 1 || !emits[j]) continue;
+      if (closed[j] != Hemisphere::Closed || !emits[j]) continue;
       root_sent[root_of[j]] += sends[j] * patches[j].area_m2;
       root_gathered[root_of[j]] += sends[j] * cols[j] * h.source_scale[j];
     }
     double col_error = 0;
     for (std::size_t j = 0; j < N; ++j) {
-      if (closed[j] == 1) {
+      if (closed[j] == Hemisphere::Closed) {
         // What the scene gathers of the power sent, over that power: the root's emitting leaves
         // together, or the leaf alone.
         const double sent = emits[j] ? root_sent[root_of[j]] : sends[j] * patches[j].area_m2;
@@ -669,7 +671,7 @@ Balanced balance(Hierarchy& h, const std::vector<char>& closed, const std::vecto
         if (update) h.source_scale[j] = relax(h.source_scale[j], h.source_scale[j] / C);
       } else {
         const double t = cols[j] / patches[j].area_m2;
-        if (update) h.source_scale[j] = closed[j] == 0 && t > 1 ? relax(h.source_scale[j], 1 / t) : 1.0;
+        if (update) h.source_scale[j] = closed[j] == Hemisphere::Open && t > 1 ? relax(h.source_scale[j], 1 / t) : 1.0;
       }
     }
     return col_error;
@@ -2265,14 +2267,6 @@ Element make_element(const Triangle& t, int surface, int parent, int root) {
   return e;
 }
 
-// The hemisphere probe of leaf i (visible_fraction.h, probe_hemisphere), as the dense solver does.
-// occluder_two_sided[k]: root k lies back to back on another surface's face (Surface::two_sided).
-char hemisphere_is_closed(const Element& e, std::size_t i, int rays, const Visibility& vis,
-                          const std::vector<Vector3>& occluder_normals, const std::vector<char>& occluder_two_sided) {
-  return probe_hemisphere(e.tri, e.normal, i, rays, vis, [&](int hit, const Vector3& d) {
-    return !occluder_two_sided[hit] && dot(occluder_normals[hit], d) >= 0;
-  });
-}
 
 }  // namespace
 
@@ -2399,50 +2393,22 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
   const OccluderPlanes occluder_planes(occluders);
   sol.stats.time_visibility_s = seconds_since(t0);
 
-  // ---- per-leaf reflectance, emission, direct irradiance (as in the dense solver) ----
-  std::vector<double> rho(N * W), M(N * W, 0.0), E_direct(N * W, 0.0), E_point(N * W, 0.0);
-  bool any_emitter = false, any_reflector = false;
-  std::vector<std::unique_ptr<LightModel>> sources;
-  std::vector<int> source_of_light;  // for the spectral grouping key: which scene light, or −1 − root
-  for (const Light& light : scene.lights) sources.push_back(make_light_model(light));
-  // Phong-lobed emitters are direct sources per root (not per leaf: their count stays that of the roots).
+  // ---- sources and direct light (solver/pipeline/direct_light.h): lobed emitters per root ----
+  std::vector<LobedPiece> lobed;
   for (int root : h.roots) {
     const Surface& s = scene.surfaces[h.elements[root].surface];
-    if (s.emission && s.emission->lobe_exponent != 1.0)
-      sources.push_back(make_phong_emitter(h.elements[root].tri, s.emission->lobe_exponent, s.emission->exitance_W_m2_nm));
+    if (s.emission && s.emission->lobe_exponent != 1.0) lobed.push_back({h.elements[root].tri, h.elements[root].surface});
   }
-  for (std::size_t i = 0; i < N; ++i) {
-    const Surface& s = scene.surfaces[sol.patches[i].surface];
-    const auto& refl = scene.materials[s.material].reflectance;
-    for (std::size_t w = 0; w < W; ++w) {
-      rho[i * W + w] = refl[w];
-      any_reflector |= refl[w] != 0;
-    }
-    if (s.emission && s.emission->lobe_exponent == 1.0) {
-      for (std::size_t w = 0; w < W; ++w) M[i * W + w] = s.emission->exitance_W_m2_nm[w];
-      any_emitter = true;
-    }
-  }
-  if (!sources.empty()) {
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, N, 16), [&](const auto& range) {
-      for (std::size_t i = range.begin(); i != range.end(); ++i) {
-        for (const auto& source : sources) {
-          const double g = source->patch_factor(sol.patches[i].triangle, vis);
-          if (g == 0) continue;
-          const auto& S = source->spectrum();
-          const bool known_flux = source->flux_factor() > 0;
-          for (std::size_t w = 0; w < W; ++w) {
-            E_direct[i * W + w] += g * S[w];
-            if (known_flux) E_point[i * W + w] += g * S[w];
-          }
-        }
-      }
-    });
-  }
+  DirectLight light = direct_light(scene, sol.patches, lobed, vis, control);
+  std::vector<double>& rho = light.rho;
+  std::vector<double>& M = light.M;
+  const std::vector<double>& E_direct = light.E_direct;
+  const std::vector<double>& E_point = light.E_known_flux;
+  const auto& sources = light.sources;
   check_cancel(control);
   report(0.1);
 
-  const bool need_links = any_emitter || (any_reflector && !sources.empty());
+  const bool need_links = light.needs_transport();
   // ---- hemisphere probe per leaf, then the clusters over the roots that are not wholly enclosed ----
   // Leaves inside closed solids (3: every probe ray met a back face, e.g. the floor under a crate)
   // exchange no light with the scene, as in the dense solver, which links no such pair. They are
@@ -2450,7 +2416,8 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
   // and a 6 mm room with a crate, ρ = 0.999, had 245 leaf links between the floor under the crate
   // and the walls (a furnace 0.34 % low), and clusters holding such roots sent their radiosity on.
   t0 = Clock::now();
-  std::vector<char> closed(N, 0);  // per leaf: 1 closed hemisphere, 2 leaking, 3 enclosed (hemisphere_is_closed)
+  std::vector<Hemisphere> closed(N, Hemisphere::Open);  // per leaf (solver/pipeline/hemisphere.h)
+  const HemisphereProbe hemisphere(vis, occluder_normals, occluder_two_sided);
   // Without any occluder plane (a convex room) no leaf sees a back face, and no input triangle hides
   // another from it: its exact factors to the input triangles (the degree-5 rule over the leaf) add up
   // to the share of its hemisphere they cover, and the hemisphere is closed where that is 1 (to 1e-3,
@@ -2464,7 +2431,7 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
       for (std::size_t i = range.begin(); i != range.end(); ++i) {
         const Element& L = h.elements[h.leaves[i]];
         if (!closure_from_factors) {
-          closed[i] = hemisphere_is_closed(L, i, rays, vis, occluder_normals, occluder_two_sided);
+          closed[i] = hemisphere.classify(L.tri, L.normal, i, rays);
           continue;
         }
         double covered = 0;
@@ -2473,15 +2440,15 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
           const Point3 p = barycentric(L.tri.v[0], L.tri.v[1], L.tri.v[2], w[0], w[1], w[2]);
           for (const Triangle& t : input_triangles) covered += rule.weights[q] * point_triangle_factor(p, L.normal, t);
         }
-        closed[i] = std::abs(1 - covered) <= 1e-3 ? 1 : 0;
+        closed[i] = hemisphere_from_coverage(covered);
       }
     });
-    if (std::find(closed.begin(), closed.end(), 3) != closed.end()) {
+    if (std::find(closed.begin(), closed.end(), Hemisphere::Enclosed) != closed.end()) {
       h.enclosed.assign(h.elements.size(), 0);
       for (std::size_t e = h.elements.size(); e-- > 0;) {  // children come after their parent
         const Element& el = h.elements[e];
         if (el.first_child < 0) {
-          h.enclosed[e] = closed[static_cast<std::size_t>(el.leaf)] == 3;
+          h.enclosed[e] = closed[static_cast<std::size_t>(el.leaf)] == Hemisphere::Enclosed;
         } else {
           h.enclosed[e] = 1;
           for (int k = 0; k < 4; ++k) h.enclosed[e] = h.enclosed[e] && h.enclosed[el.first_child + k];
@@ -2503,9 +2470,7 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
   // unconverged; and while they kept their ρ, they reflected that pushed-down light back into the
   // scene from inside a solid (a panel 1 mm below a ceiling: 3.7e-5 of its power, against an energy
   // certificate otherwise exact to 1e-13).
-  for (std::size_t i = 0; i < N; ++i)
-    if (closed[i] == 3)
-      for (std::size_t w = 0; w < W; ++w) rho[i * W + w] = 0, M[i * W + w] = 0;
+  light.leave_out_enclosed(closed, W);
 
   // ---- spectral systems: one per distinct (reflectance column, right-hand side) ----
   // Key: ρ over materials, emission over surfaces and the spectrum of every direct source at λ; the
@@ -2565,7 +2530,7 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
     std::vector<double> leaf_B(N, 0.0);
     double power = 0, area = 0, rho_mean = 0;
     for (std::size_t i = 0; i < N; ++i) {
-      if (closed[i] == 3) continue;  // enclosed: neither part of the scene's power nor of its area
+      if (closed[i] == Hemisphere::Enclosed) continue;  // enclosed: neither part of the scene's power nor of its area
       for (const auto& sys : systems) leaf_B[i] = std::max(leaf_B[i], std::abs(sys.x[i]));
       power += sol.patches[i].area_m2 * leaf_B[i];
       area += sol.patches[i].area_m2;
@@ -2590,16 +2555,16 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
     // radiosity, from the first round on: pairs that the first round drops as within the budget
     // (B = 0 passes any test) are not found again, and their share was missing from the rows of that
     // room after the final gather (closure 9.7e-3 instead of 1.9e-6).
-    if (area > 0 && std::find(closed.begin(), closed.end(), 1) != closed.end())
+    if (area > 0 && std::find(closed.begin(), closed.end(), Hemisphere::Closed) != closed.end())
       for (std::size_t i = 0; i < N; ++i)
         if (!shoots[i]) leaf_B[i] = power / area;
     for (std::size_t i = 0; i < N; ++i)
-      if (closed[i] == 3) leaf_B[i] = 0;
+      if (closed[i] == Hemisphere::Enclosed) leaf_B[i] = 0;
     return std::pair{leaf_B, power};
   };
 
   double total_area = 0;  // of the leaves that are not enclosed
-  for (std::size_t i = 0; i < N; ++i) total_area += closed[i] == 3 ? 0 : sol.patches[i].area_m2;
+  for (std::size_t i = 0; i < N; ++i) total_area += closed[i] == Hemisphere::Enclosed ? 0 : sol.patches[i].area_m2;
   h.leaf_scale.assign(N, 1.0);
   h.source_scale.assign(N, 1.0);
   double time_links = time_probe, time_solve = 0;
@@ -2658,7 +2623,7 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
     double rho_max = 0;  // of the leaves that are not enclosed, over the systems
     for (const auto& sys : systems)
       for (std::size_t i = 0; i < N; ++i)
-        if (closed[i] != 3) rho_max = std::max(rho_max, std::abs(sys.rho[i]));
+        if (closed[i] != Hemisphere::Enclosed) rho_max = std::max(rho_max, std::abs(sys.rho[i]));
     const double final_target = balance_target(kFinalBalance, rho_max);
     const double oracle_target = balance_target(kOracleBalance, rho_max);
     bool final_balance = false;  // whether the last balance aimed at final_target
@@ -2856,7 +2821,7 @@ Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
     }
     double power = 0, area = 0;
     for (std::size_t i = 0; i < N; ++i) {
-      if (closed[i] == 3) continue;  // enclosed: no part of what a probe can see
+      if (closed[i] == Hemisphere::Enclosed) continue;  // enclosed: no part of what a probe can see
       power += sol.patches[i].area_m2 * std::max(std::abs(lo[h.leaves[i]]), std::abs(hi[h.leaves[i]]));
       area += sol.patches[i].area_m2;
     }

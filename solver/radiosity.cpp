@@ -23,6 +23,9 @@
 #include "solver/linear_solve.h"
 #include "solver/occluder_planes.h"
 #include "solver/patch_refinement.h"
+#include "solver/pipeline/direct_light.h"
+#include "solver/pipeline/hemisphere.h"
+#include "solver/pipeline/prepare.h"
 #include "solver/solids.h"
 #include "solver/visibility.h"
 #include "solver/visible_fraction.h"
@@ -91,20 +94,6 @@ void visible_point_triangle_factors(const Point3& p, const Vector3& n, const std
   }
 }
 
-// The hemisphere probe of patch i (visible_fraction.h, probe_hemisphere): 1024 rays, so an opening
-// of 1 % of the projected hemisphere goes unseen with probability 3e-5.
-constexpr int kHemisphereRays = 1024;
-// two_sided: per input triangle (Patch::input_triangle), as Surface::two_sided.
-char hemisphere_is_closed(const std::vector<Patch>& patches, std::size_t i, const Visibility& vis,
-                          const std::vector<char>& two_sided) {
-  return probe_hemisphere(patches[i].triangle, patches[i].normal, i, kHemisphereRays, vis,
-                          [&](int hit, const Vector3& d) {
-                            const int input = patches[hit].input_triangle;
-                            if (input >= 0 && static_cast<std::size_t>(input) < two_sided.size() && two_sided[input])
-                              return false;  // a sheet: its other face, coincident, faces the ray
-                            return dot(patches[hit].normal, d) >= 0;
-                          });
-}
 
 }  // namespace
 
@@ -177,65 +166,6 @@ double default_max_patch_area(const Scene& scene) {
 
 Solution solve_dense(const Scene& scene, const SolveControl& control, const std::vector<Patch>* premeshed);
 
-void report_hemisphere_findings(Solution& sol, const Scene& scene, const std::vector<char>& hemisphere) {
-  auto tally = [&](char kind, double& area) {
-    std::set<std::string> names;
-    std::size_t count = 0;
-    for (std::size_t i = 0; i < sol.patches.size() && i < hemisphere.size(); ++i)
-      if (hemisphere[i] == kind) {
-        ++count;
-        area += sol.patches[i].area_m2;
-        names.insert(scene.surfaces[sol.patches[i].surface].name);
-      }
-    std::string list;
-    for (const auto& name : names) list += (list.empty() ? "" : ", ") + name;
-    return std::pair{count, list};
-  };
-  double leak_area = 0, enclosed_area = 0;
-  const auto [leaking, leak_surfaces] = tally(2, leak_area);
-  if (leaking > 0)
-    sol.warnings.push_back(std::to_string(leaking) + " patches (of " + leak_surfaces +
-                           ") see the back of a surface: an enclosure is open underneath or a "
-                           "surface faces the wrong way; light reaching a back side is lost");
-  const auto [enclosed, enclosed_surfaces] = tally(3, enclosed_area);
-  if (enclosed > 0) {
-    char text[64];
-    std::snprintf(text, sizeof text, "%.6g", enclosed_area);
-    sol.warnings.push_back(std::to_string(enclosed) + " patches (" + text + " m² of " + enclosed_surfaces +
-                           ") lie inside closed solids (e.g. under a box standing on a floor): they see only "
-                           "back faces, exchange no light with the scene and are left out of the result");
-  }
-}
-
-void leave_out_enclosed(Solution& sol, const std::vector<char>& hemisphere) {
-  const std::size_t W = sol.wavelengths(), N = sol.patches.size();
-  std::vector<char> gone(N, 0);
-  std::size_t dropped = 0;
-  for (std::size_t i = 0; i < N && i < hemisphere.size(); ++i) {
-    gone[i] = hemisphere[i] == 3;
-    dropped += gone[i];
-  }
-  sol.stats.enclosed_patches = dropped;
-  if (dropped == 0) return;
-  auto compact = [&](std::vector<double>& per_patch) {
-    if (per_patch.size() != N * W) return;
-    std::size_t kept = 0;
-    for (std::size_t i = 0; i < N; ++i)
-      if (!gone[i]) std::copy_n(&per_patch[i * W], W, &per_patch[kept++ * W]);
-    per_patch.resize(kept * W);
-  };
-  compact(sol.radiosity);
-  compact(sol.irradiance);
-  for (SourceContribution& c : sol.contributions) {
-    compact(c.radiosity);
-    compact(c.irradiance);
-  }
-  std::size_t kept = 0;
-  for (std::size_t i = 0; i < N; ++i)
-    if (!gone[i]) sol.patches[kept++] = sol.patches[i];
-  sol.patches.resize(kept);
-  sol.stats.patches = kept;
-}
 
 std::size_t patch_limit(std::size_t solver_limit, const SolveControl& control) {
   return control.max_patches > 0 ? std::min(control.max_patches, solver_limit) : solver_limit;
@@ -254,191 +184,19 @@ void check_patch_count(double patches, bool estimate, std::size_t solver_limit, 
                    "; increase meshing.max_patch_area (it is in the scene's units squared)");
 }
 
+// The stages run in order: the scene prepared (solver/pipeline/prepare.h), then the method.
 namespace {
 Solution solve_method(const Scene& scene, const SolveControl& control);
-
-// Pieces that lie on an opposite-facing coplanar face (imprint_contacts, on_opposite_face) are either
-// contact — a box's bottom on a floor, where the space in front of one of the two faces is inside the
-// other's solid — or the two faces of a sheet of zero thickness, in front of both of which is open
-// space. A hemisphere probe on each side of the piece tells them apart: if every ray from one side
-// hits the back of a surface, that side is inside a solid and the piece is contact, seen by nothing,
-// and removed. `surfaces`: the meshes as given (imprint's are cut). Returns the area removed (both
-// faces counted).
-double remove_contact_pieces(ContactImprint& imprint, const std::vector<Surface>& surfaces) {
-  bool any = false;
-  for (const std::vector<char>& flags : imprint.on_opposite_face)
-    any |= std::any_of(flags.begin(), flags.end(), [](char f) { return f != 0; });
-  if (!any) return 0;
-  const std::vector<char> solid = surfaces_bounding_solids(surfaces);
-  std::vector<Triangle> all;
-  std::vector<Vector3> normals;
-  std::vector<char> sheet;
-  for (std::size_t m = 0; m < imprint.meshes.size(); ++m)
-    for (std::size_t t = 0; t < imprint.meshes[m].triangles.size(); ++t) {
-      all.push_back(imprint.meshes[m].triangle(t));
-      // A flagged piece and its partner coincide, and a ray meets either of them: from inside a box
-      // pushed into a room's corner it may meet the room's wall (facing into the box) instead of the
-      // box's own side. Where either of the two bounds a solid, the pair counts as a back face (a
-      // zero normal), whichever of them is hit. Otherwise the two are a sheet's faces, and one of
-      // them faces the ray whichever is hit: a front face (a sheet facing another across a narrow
-      // gap would otherwise make the gap look like a solid's inside).
-      const bool flagged = imprint.on_opposite_face[m][t] != 0;
-      const int other = imprint.opposite_mesh[m][t];
-      const bool ambiguous = flagged && (solid[m] || (other >= 0 && solid[other]));
-      normals.push_back(ambiguous ? Vector3{} : all.back().normal());
-      sheet.push_back(flagged && !ambiguous);
-    }
-  const Visibility vis(all);
-  constexpr int kRays = 64;  // a solid's interior sends every ray to a back face; one escape ends it
-  auto inside_a_solid = [&](const Triangle& side, const Vector3& n, std::size_t seed) {
-    return probe_hemisphere(side, n, seed, kRays, vis, [&](int hit, const Vector3& d) {
-             return !sheet[hit] && dot(normals[hit], d) >= 0;
-           }) == 3;
-  };
-  double removed = 0;
-  std::size_t index = 0;
-  for (std::size_t m = 0; m < imprint.meshes.size(); ++m) {
-    TriangleMesh& mesh = imprint.meshes[m];
-    std::vector<std::array<int, 3>> kept;
-    std::vector<char> kept_flags;
-    for (std::size_t t = 0; t < mesh.triangles.size(); ++t, ++index) {
-      if (imprint.on_opposite_face[m][t]) {
-        const Triangle& front = all[index];
-        const Triangle back{{front.v[0], front.v[2], front.v[1]}};
-        const Vector3 n = front.normal();
-        if (inside_a_solid(front, n, index) || inside_a_solid(back, -n, index)) {
-          removed += front.area();
-          continue;
-        }
-      }
-      kept.push_back(mesh.triangles[t]);
-      kept_flags.push_back(imprint.on_opposite_face[m][t]);
-    }
-    mesh.triangles = std::move(kept);
-    imprint.on_opposite_face[m] = std::move(kept_flags);  // what is left flagged: two-sided sheets
-  }
-  return removed;
-}
 }  // namespace
 
-namespace {
-Solution solve_placed(const Scene& scene, const SolveControl& control);
-
-// The shift that brings a scene far from the origin to it, per axis: the centre of the surfaces'
-// bounding box on the axes where it lies more than ten times the box's diagonal away, else 0. There
-// every coordinate lies within a factor 2 of the centre, so x − c is exact (Sterbenz) and so is
-// (x − c) + c: the shifted scene is the same geometry, and its output vertices come back unchanged.
-Vector3 recentring_shift(const Scene& scene) {
-  Bounds3 box;
-  for (const Surface& s : scene.surfaces)
-    for (const Point3& v : s.mesh.vertices) box.add(v);
-  if (box.empty()) return {};
-  const double size = length(box.diagonal());
-  const Point3 c = box.center();
-  auto axis = [&](double centre) { return std::abs(centre) > 10 * size ? centre : 0.0; };
-  return {axis(c.x), axis(c.y), axis(c.z)};
-}
-}  // namespace
-
-// Geo-referenced scenes (a building at x ≈ 5e5, y ≈ 5.5e6 m) are solved about their own centre:
-// meshing, contacts, the occluder planes and every tolerance relative to an element's size then work
-// on coordinates of the scene's size instead of the offset's, whose last bits are a nanometre.
 Solution solve(const Scene& scene, const SolveControl& control) {
-  const Vector3 shift = recentring_shift(scene);
-  if (shift.x == 0 && shift.y == 0 && shift.z == 0) return solve_placed(scene, control);
-  Scene moved = scene;
-  for (Surface& s : moved.surfaces)
-    for (Point3& v : s.mesh.vertices) v = v - shift;
-  for (Light& light : moved.lights)
-    if (auto* point = std::get_if<PointLight>(&light)) point->position = point->position - shift;
-  for (Probe& probe : moved.probes)
-    for (Point3& p : probe.points) p = p - shift;
-  Solution sol = solve_placed(moved, control);
-  for (Patch& patch : sol.patches)
-    for (Point3& v : patch.triangle.v) v = v + shift;
+  const PreparedScene prepared(scene, control);
+  Solution sol = solve_method(prepared.scene(), control);
+  prepared.finish(sol);
   return sol;
 }
 
 namespace {
-Solution solve_placed(const Scene& scene, const SolveControl& control) {
-  // Contacts first: surfaces are cut where other surfaces touch or cross them (mesh_ops.h,
-  // imprint_contacts), so that no patch straddles a box's footprint on a floor.
-  // Slivers first: planar regions cut into thin strips are joined and triangulated again
-  // (mesh_ops.h, merge_sliver_regions), so that patches follow the regions and not the strips.
-  std::vector<TriangleMesh> meshes;
-  meshes.reserve(scene.surfaces.size());
-  // Over-tessellated planar regions too (input triangles far smaller than the patches): joined, they
-  // give patches of the patch size instead of one per input triangle.
-  std::size_t slivers = 0, sliver_regions = 0, fine_regions = 0, fine_triangles = 0;
-  std::size_t sliver_surface_count = 0, fine_surface_count = 0;  // surfaces with such regions
-  std::vector<std::string> sliver_surfaces, fine_surfaces;
-  const double fine_area = scene.meshing.max_patch_area_m2.value_or(default_max_patch_area(scene)) / 16;
-  for (const Surface& s : scene.surfaces) {
-    check_cancel(control);
-    SliverMerge merged = merge_sliver_regions(s.mesh, 1e-9, fine_area);
-    const std::size_t for_slivers = merged.regions - merged.fine_regions;
-    slivers += for_slivers > 0 ? merged.slivers : 0;
-    sliver_regions += for_slivers;
-    fine_regions += merged.fine_regions;
-    fine_triangles += merged.fine_triangles;
-    sliver_surface_count += for_slivers > 0;
-    fine_surface_count += merged.fine_regions > 0;
-    if (for_slivers > 0 && sliver_surfaces.size() < 3) sliver_surfaces.push_back("\"" + s.name + "\"");
-    if (merged.fine_regions > 0 && fine_surfaces.size() < 3) fine_surfaces.push_back("\"" + s.name + "\"");
-    meshes.push_back(std::move(merged.mesh));
-  }
-  ContactImprint imprint = imprint_contacts(meshes);
-  const double contact_area = remove_contact_pieces(imprint, scene.surfaces);
-  std::vector<std::string> overlap_warnings;
-  for (const auto& o : imprint.overlaps) {
-    char text[64];
-    std::snprintf(text, sizeof text, "%.6g", o.area);
-    overlap_warnings.push_back("surfaces \"" + scene.surfaces[o.mesh_a].name + "\" and \"" +
-                               scene.surfaces[o.mesh_b].name + "\" overlap in one plane over " + text +
-                               " m² (coplanar faces facing the same way): both radiate from the same place, so "
-                               "light there is counted twice; remove one or lift it off the other");
-  }
-  auto finish = [&](Solution sol) {
-    sol.warnings.insert(sol.warnings.end(), overlap_warnings.begin(), overlap_warnings.end());
-    sol.stats.sliver_regions_remeshed = sliver_regions;
-    sol.stats.fine_regions_remeshed = fine_regions;
-    if (fine_regions > 0) {
-      std::string names;
-      for (const std::string& n : fine_surfaces) names += (names.empty() ? "" : ", ") + n;
-      sol.warnings.push_back(std::to_string(fine_triangles) + " input triangles in " + std::to_string(fine_regions) +
-                             " planar regions (surfaces " + names + (fine_surfaces.size() < fine_surface_count ? ", ..." : "") +
-                             "), each on average smaller than 1/16 of meshing.max_patch_area, were joined and "
-                             "triangulated again: patches are cut from the regions at meshing.max_patch_area, "
-                             "not one per input triangle (set a smaller max_patch_area for finer patches)");
-    }
-    if (sliver_regions > 0) {
-      std::string names;
-      for (const std::string& n : sliver_surfaces) names += (names.empty() ? "" : ", ") + n;
-      sol.warnings.push_back(std::to_string(slivers) + " sliver triangles (thinner than about 1:20) in " +
-                             std::to_string(sliver_regions) + " planar regions (surfaces " + names +
-                             (sliver_surfaces.size() < sliver_surface_count ? ", ..." : "") +
-                             ") were joined and triangulated again: patches follow the regions, not the strips");
-    }
-    return sol;
-  };
-  if (imprint.triangles_cut == 0 && sliver_regions == 0 && fine_regions == 0) return finish(solve_method(scene, control));
-  Scene cut = scene;
-  for (std::size_t s = 0; s < cut.surfaces.size(); ++s) {
-    cut.surfaces[s].mesh = std::move(imprint.meshes[s]);
-    cut.surfaces[s].two_sided = std::move(imprint.on_opposite_face[s]);
-  }
-  Solution sol = solve_method(cut, control);
-  sol.stats.contact_triangles_cut = imprint.triangles_cut;
-  sol.stats.contact_area_m2 = contact_area;
-  if (contact_area > 0) {
-    char text[64];
-    std::snprintf(text, sizeof text, "%.6g", contact_area);
-    sol.warnings.push_back(std::string(text) + " m² of surface lie face to face on other surfaces (e.g. a box's "
-                           "bottom on a floor): that contact area is hidden and left out of the patches");
-  }
-  return finish(std::move(sol));
-}
-
 Solution solve_method(const Scene& scene, const SolveControl& control) {
   // Method selection (scene.h SolverMethod): Auto estimates the meshed patch count from the areas.
   SolverMethod method = scene.solver.method;
@@ -553,88 +311,15 @@ Solution solve_dense(const Scene& scene, const SolveControl& control, const std:
   });
   sol.stats.time_visibility_s = seconds_since(t0);
 
-  // ---- per-patch reflectance, emission and direct irradiance ----
-  // Direct sources: the scene's lights, then each patch of a Phong-lobed emitter, whose emission
-  // reaches the other patches and the probes as direct irradiance (so M and B hold Lambertian
-  // emission only, and a lobed emitter's B is its reflected part ρH). E_point is the direct
-  // irradiance from the sources whose emitted flux is known (flux_factor > 0).
-  std::vector<double> rho(N * W), M(N * W, 0.0), E_direct(N * W, 0.0), E_point(N * W, 0.0);
-  bool any_emitter = false, any_reflector = false;
-  std::vector<std::unique_ptr<LightModel>> sources;
-  for (const Light& light : scene.lights) sources.push_back(make_light_model(light));
-  for (std::size_t i = 0; i < N; ++i) {
-    const Surface& s = scene.surfaces[sol.patches[i].surface];
-    const auto& refl = scene.materials[s.material].reflectance;
-    for (std::size_t w = 0; w < W; ++w) {
-      rho[i * W + w] = refl[w];
-      any_reflector |= refl[w] > 0;
-    }
-    if (s.emission && s.emission->lobe_exponent != 1.0) {
-      sources.push_back(make_phong_emitter(sol.patches[i].triangle, s.emission->lobe_exponent,
-                                           s.emission->exitance_W_m2_nm));
-    } else if (s.emission) {
-      for (std::size_t w = 0; w < W; ++w) M[i * W + w] = s.emission->exitance_W_m2_nm[w];
-      any_emitter = true;
-    }
-  }
-  // Superposition (output.per_source): every light, and every emitting surface, is a source whose
-  // M and E^direct are kept apart; the joint solve uses their sums.
-  struct SourceTerms {
-    std::string pointer, name;
-    std::vector<double> M, E;  // [patch][λ]
-  };
-  std::vector<SourceTerms> terms;
-  std::vector<int> term_of_source(sources.size(), -1);
-  if (scene.output.per_source) {
-    static constexpr const char* kLightNames[] = {"ambient", "directional", "point-like"};
-    for (std::size_t l = 0; l < scene.lights.size(); ++l) {
-      std::string name = kLightNames[scene.lights[l].index()];
-      if (const auto* pl = std::get_if<PointLight>(&scene.lights[l]))
-        name = pl->kind == PointLight::Kind::Point ? "point"
-               : pl->kind == PointLight::Kind::Spot ? "spot"
-               : pl->kind == PointLight::Kind::Warn ? "warn" : "goniometric";
-      terms.push_back({l < scene.light_pointers.size() ? scene.light_pointers[l] : "/lights/" + std::to_string(l),
-                       name, {}, std::vector<double>(N * W, 0.0)});
-      term_of_source[l] = static_cast<int>(l);
-    }
-    std::vector<int> term_of_surface(scene.surfaces.size(), -1);
-    for (std::size_t s = 0; s < scene.surfaces.size(); ++s)
-      if (scene.surfaces[s].emission) {
-        term_of_surface[s] = static_cast<int>(terms.size());
-        terms.push_back({scene.surfaces[s].pointer, scene.surfaces[s].name, std::vector<double>(N * W, 0.0),
-                         std::vector<double>(N * W, 0.0)});
-      }
-    std::size_t next_source = scene.lights.size();
-    for (std::size_t i = 0; i < N; ++i) {
-      const Surface& surface = scene.surfaces[sol.patches[i].surface];
-      if (!surface.emission) continue;
-      const int t = term_of_surface[sol.patches[i].surface];
-      if (surface.emission->lobe_exponent != 1.0) {
-        term_of_source[next_source++] = t;  // the Phong sources were appended in patch order
-      } else {
-        for (std::size_t w = 0; w < W; ++w) terms[t].M[i * W + w] = M[i * W + w];
-      }
-    }
-  }
-  if (!sources.empty()) {
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, N, 16), [&](const auto& range) {
-      for (std::size_t i = range.begin(); i != range.end(); ++i) {
-        for (std::size_t k = 0; k < sources.size(); ++k) {
-          const auto& source = sources[k];
-          const double g = source->patch_factor(sol.patches[i].triangle, vis);
-          if (g == 0) continue;
-          const auto& S = source->spectrum();
-          const bool known_flux = source->flux_factor() > 0;
-          double* own = term_of_source[k] >= 0 ? &terms[term_of_source[k]].E[i * W] : nullptr;
-          for (std::size_t w = 0; w < W; ++w) {
-            E_direct[i * W + w] += g * S[w];
-            if (known_flux) E_point[i * W + w] += g * S[w];
-            if (own) own[w] += g * S[w];
-          }
-        }
-      }
-    });
-  }
+  // ---- sources and direct light (solver/pipeline/direct_light.h) ----
+  DirectLight light = direct_light(scene, sol.patches, lobed_patches(scene, sol.patches), vis, control);
+  std::vector<double>& rho = light.rho;
+  std::vector<double>& M = light.M;
+  const std::vector<double>& E_direct = light.E_direct;
+  const std::vector<double>& E_point = light.E_known_flux;
+  const auto& sources = light.sources;
+  const std::vector<SourceTerms>& terms = light.terms;
+  const std::vector<int>& term_of_source = light.term_of_source;
   check_cancel(control);
   report(0.1);
 
@@ -642,10 +327,22 @@ Solution solve_dense(const Scene& scene, const SolveControl& control, const std:
   // G_ij = A_i F_ij = G_ji from the exact kernel integrated over the smaller patch of each pair, times
   // the kernel-weighted visible fraction from rays; computed once per unordered pair.
   t0 = Clock::now();
-  const bool need_factors = any_emitter || (any_reflector && !sources.empty());
+  const bool need_factors = light.needs_transport();
   std::vector<double> F;  // row-major N×N, F_ij = G_ij / A_i
   std::vector<double> row_sum(N, 0.0);
-  std::vector<char> closed(N, 0);  // hemisphere probe per patch (visible_fraction.h, probe_hemisphere)
+  // The hemisphere of each patch (solver/pipeline/hemisphere.h), probed on the patches themselves.
+  std::vector<Hemisphere> closed(N, Hemisphere::Open);
+  std::vector<Vector3> patch_normals(N);
+  std::vector<char> patch_two_sided(N, 0);
+  for (std::size_t i = 0; i < N; ++i) {
+    patch_normals[i] = sol.patches[i].normal;
+    const int input = sol.patches[i].input_triangle;
+    patch_two_sided[i] = input >= 0 && static_cast<std::size_t>(input) < two_sided.size() && two_sided[input];
+  }
+  const HemisphereProbe hemisphere(vis, std::move(patch_normals), std::move(patch_two_sided));
+  auto probe = [&](std::size_t i) {
+    return hemisphere.classify(sol.patches[i].triangle, sol.patches[i].normal, i, kHemisphereRays);
+  };
   std::atomic<std::size_t> rows_done{0}, links{0}, links_clear{0};
   std::atomic<std::uint64_t> link_rays{0}, link_ray_ns{0};  // rays of links and the thread time spent on them
   std::atomic<bool> cancelled{false};
@@ -659,18 +356,12 @@ Solution solve_dense(const Scene& scene, const SolveControl& control, const std:
     std::vector<char> probed(N, 0);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, N, 16), [&](const auto& range) {
       for (std::size_t i = range.begin(); i != range.end(); ++i)
-        if (!in_front_of_all(i)) closed[i] = hemisphere_is_closed(sol.patches, i, vis, two_sided), probed[i] = 1;
+        if (!in_front_of_all(i)) closed[i] = probe(i), probed[i] = 1;
     });
     check_cancel(control);
     // Nor does it emit or reflect: a light sealed inside a box sends nothing, and its power is not
     // counted as emitted (nor as escaped) in the energy certificate.
-    for (std::size_t i = 0; i < N; ++i)
-      if (closed[i] == 3)
-        for (std::size_t w = 0; w < W; ++w) {
-          rho[i * W + w] = 0, M[i * W + w] = 0;
-          for (auto& term : terms)
-            if (!term.M.empty()) term.M[i * W + w] = 0;  // a light's term has no M
-        }
+    light.leave_out_enclosed(closed, W);
     // Whether any link of a patch's row needed rays (its row sum is then an estimate).
     const std::vector<Point3> samples = lifted_visibility_samples(sol.patches, vis);
     std::unique_ptr<std::atomic<char>[]> row_traced(new std::atomic<char>[N]);
@@ -688,9 +379,9 @@ Solution solve_dense(const Scene& scene, const SolveControl& control, const std:
         thread_local std::vector<std::size_t> partners, traced, traced_partners;
         thread_local std::vector<double> unoccluded, fraction, traced_fraction;
         partners.clear(), traced.clear(), traced_partners.clear();
-        for (std::size_t j = i + 1; j < N && closed[i] != 3; ++j) {
+        for (std::size_t j = i + 1; j < N && closed[i] != Hemisphere::Enclosed; ++j) {
           const Patch& b = sol.patches[j];
-          if (closed[j] == 3) continue;
+          if (closed[j] == Hemisphere::Enclosed) continue;
           if (!any_in_front(a.triangle, a.normal, b.triangle) || !any_in_front(b.triangle, b.normal, a.triangle))
             continue;
           if (sides.empty() || !occluder_planes.clear(sides[i], sides[j])) {
@@ -752,16 +443,15 @@ Solution solve_dense(const Scene& scene, const SolveControl& control, const std:
       for (std::size_t i = range.begin(); i != range.end(); ++i) {
         if (probed[i]) continue;
         if (!row_traced[i].load(std::memory_order_relaxed)) {
-          const double sum = std::accumulate(&F[i * N], &F[i * N] + N, 0.0);
-          closed[i] = std::abs(1 - sum) <= 1e-3 ? 1 : 0;
+          closed[i] = hemisphere_from_coverage(std::accumulate(&F[i * N], &F[i * N] + N, 0.0));
         } else {
-          closed[i] = hemisphere_is_closed(sol.patches, i, vis, two_sided);
+          closed[i] = probe(i);
         }
       }
     });
     std::vector<char> closing(N, 0);
     std::vector<double> area(N);
-    for (std::size_t i = 0; i < N; ++i) closing[i] = closed[i] == 1, area[i] = sol.patches[i].area_m2;
+    for (std::size_t i = 0; i < N; ++i) closing[i] = closed[i] == Hemisphere::Closed, area[i] = sol.patches[i].area_m2;
     const RowScaling scaling = symmetric_row_scaling(F, N, closing, area, 1e-13, 500);
     const std::vector<double>& d = scaling.d;
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, N, 32), [&](const auto& range) {
@@ -819,7 +509,7 @@ Solution solve_dense(const Scene& scene, const SolveControl& control, const std:
   // one would set the scale of the solver's relative residual and leave the room unconverged.
   std::vector<int> active;
   for (std::size_t i = 0; i < N && need_factors; ++i)
-    for (std::size_t w = 0; w < W && closed[i] != 3; ++w)
+    for (std::size_t w = 0; w < W && closed[i] != Hemisphere::Enclosed; ++w)
       if (rho[i * W + w] > 0) {
         active.push_back(static_cast<int>(i));
         break;

@@ -117,11 +117,6 @@ std::size_t patch_limit(std::size_t solver_limit, const SolveControl& control);
 // and again with the real count.
 void check_patch_count(double patches, bool estimate, std::size_t solver_limit, const SolveControl& control);
 
-// Shared by both methods, from the hemisphere probe's verdict per patch (0 open, 1 closed, 2 some
-// back faces seen: a leak, 3 only back faces: inside a closed solid): warnings naming the surfaces,
-// and the removal of patches inside closed solids from the solution (stats.enclosed_patches).
-void report_hemisphere_findings(Solution& sol, const Scene& scene, const std::vector<char>& hemisphere);
-void leave_out_enclosed(Solution& sol, const std::vector<char>& hemisphere);
 
 
 Solution solve(const Scene& scene, const SolveControl& control = {});

@@ -8,6 +8,7 @@
 #include <array>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <span>
 #include <utility>
 #include <vector>
@@ -146,15 +147,20 @@ std::size_t weighted_visible_fractions(const Visibility& vis, std::size_t count,
   return traced;
 }
 
+// What a hemisphere probe found (probe_hemisphere).
+enum class Hemisphere : std::uint8_t {
+  Open,      // a ray escaped the scene
+  Closed,    // every ray met the front of a surface
+  Leaking,   // some met a back face: an enclosure open underneath, or a surface facing the wrong way
+  Enclosed,  // every ray met a back face: the triangle lies inside a closed solid
+};
+
 // Probes a triangle's hemisphere (unit normal n) with `rays` cosine-distributed rays: a rank-1 lattice
 // (Fibonacci) in [0,1)², shifted by a hash of `seed` (Cranley–Patterson) so that neighbouring patches
 // do not miss the same directions, from the triangle's stratified sample points. `hits_back(hit, d)`
 // tells whether a ray along d that meets occluder `hit` meets its back (usually dot(normal, d) ≥ 0).
-// Returns 1 if every ray hits the front of a surface (closed),
-// 2 if some hit a back face (an open enclosure underneath or a surface facing the wrong way), 3 if
-// every ray does (the triangle lies inside a closed solid), 0 if one escapes the scene (open). An
-// opening that subtends a fraction p of the projected hemisphere goes unseen with probability
-// (1 − p)^rays.
+// Returns the verdict (Hemisphere, below). An opening that subtends a fraction p of the projected
+// hemisphere goes unseen with probability (1 − p)^rays.
 //
 // A ray that escapes or meets a back face is traced again as two parallel twins, moved along the
 // surface by 1e-5 of the scene's size in two perpendicular directions; its verdict is dropped if a
@@ -168,7 +174,7 @@ std::size_t weighted_visible_fractions(const Visibility& vis, std::size_t count,
 // `vis` is a Visibility, or anything with its lift, scene_extent, first_hit and first_hits (tests
 // script the rays' fates with one).
 template <class Tracer, class HitsBack>
-char probe_hemisphere(const Triangle& tri, const Vector3& n, std::size_t seed, int rays, const Tracer& vis,
+Hemisphere probe_hemisphere(const Triangle& tri, const Vector3& n, std::size_t seed, int rays, const Tracer& vis,
                       HitsBack&& hits_back) {
   const Vector3 t = perpendicular(n);
   const Vector3 s = cross(n, t);
@@ -203,7 +209,7 @@ char probe_hemisphere(const Triangle& tri, const Vector3& n, std::size_t seed, i
   for (int k = 0; k < single; ++k) {
     const Segment seg = ray(k);
     const int v = confirmed(seg, verdict(seg, vis.first_hit(seg.from, seg.to)));
-    if (v < 0) return 0;
+    if (v < 0) return Hemisphere::Open;
     back += v;
   }
   thread_local std::vector<Segment> segments;
@@ -215,11 +221,11 @@ char probe_hemisphere(const Triangle& tri, const Vector3& n, std::size_t seed, i
     vis.first_hits(segments, hits);
     for (std::size_t r = 0; r < segments.size(); ++r) {
       const int v = confirmed(segments[r], verdict(segments[r], hits[r]));
-      if (v < 0) return 0;
+      if (v < 0) return Hemisphere::Open;
       back += v;
     }
   }
-  return back == 0 ? 1 : (back == rays ? 3 : 2);
+  return back == 0 ? Hemisphere::Closed : (back == rays ? Hemisphere::Enclosed : Hemisphere::Leaking);
 }
 
 }  // namespace lambert

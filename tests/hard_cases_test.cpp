@@ -429,7 +429,7 @@ struct ScriptedTracer {
   }
 };
 
-char probe(const ScriptedTracer& tracer) {
+Hemisphere probe(const ScriptedTracer& tracer) {
   const Triangle floor{{Point3{0, 0, 0}, Point3{1, 0, 0}, Point3{0, 1, 0}}};
   return probe_hemisphere(floor, {0, 0, 1}, 7, 64, tracer, [](int hit, const Vector3&) { return hit == 1; });
 }
@@ -437,7 +437,7 @@ char probe(const ScriptedTracer& tracer) {
 TEST(HardCases, AProbeRayGrazingAnEdgeDoesNotOpenAClosedPatch) {
   // The probe's rays, in order, in a closed room.
   std::vector<Segment> rays;
-  EXPECT_EQ(probe({[&](const Segment& s) { return rays.push_back(s), 0; }}), 1);
+  EXPECT_EQ(probe({[&](const Segment& s) { return rays.push_back(s), 0; }}), Hemisphere::Closed);
   ASSERT_EQ(rays.size(), 64u);
   // One of them (the 3rd, traced alone, or the 40th, traced in a stream) grazes an edge that runs
   // along y through its origin, and escapes or meets a back face there; so does every ray parallel
@@ -451,7 +451,7 @@ TEST(HardCases, AProbeRayGrazingAnEdgeDoesNotOpenAClosedPatch) {
         const bool parallel = length((s.to - s.from) - (edge.to - edge.from)) < 1e-9;
         return parallel && std::abs(s.from.x - edge.from.x) < 1e-12 ? what : 0;
       }};
-      EXPECT_EQ(probe(tracer), 1) << "ray " << slip << " fate " << what;  // closed
+      EXPECT_EQ(probe(tracer), Hemisphere::Closed) << "ray " << slip << " fate " << what;  // closed
       EXPECT_EQ(calls, 64 + 2) << "ray " << slip << " fate " << what;  // and the ray's two twins
     }
 }
@@ -460,7 +460,7 @@ TEST(HardCases, AProbeStillFindsARealOpeningOrBackFace) {
   // Rays within 25° of the zenith escape (a skylight), or meet a back face: so do their twins.
   for (int what : {-1, 1}) {
     const ScriptedTracer tracer{[&](const Segment& s) { return normalize(s.to - s.from).z > std::cos(0.436) ? what : 0; }};
-    EXPECT_EQ(probe(tracer), what < 0 ? 0 : 2) << "fate " << what;
+    EXPECT_EQ(probe(tracer), what < 0 ? Hemisphere::Open : Hemisphere::Leaking) << "fate " << what;
   }
 }
 
