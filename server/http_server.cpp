@@ -238,12 +238,12 @@ void close_after(const httplib::Request& req, httplib::Response& res) {
 // ---- the server -----------------------------------------------------------------------------------
 
 struct HttpServer::Impl {
-  Impl(JobStore& j, HttpServerOptions o)
+  Impl(JobService& j, HttpServerOptions o)
       : jobs(j), options(std::move(o)), files(http_file_access(options.mesh_root)),
         routes(make_routes()),
         max_sync_waiters(std::max<std::size_t>(1, options.http_threads > 2 ? options.http_threads - 2 : 1)) {}
 
-  JobStore& jobs;
+  JobService& jobs;
   HttpServerOptions options;
   FileAccess files;
   std::vector<Route> routes;
@@ -276,7 +276,7 @@ struct HttpServer::Impl {
   }
 };
 
-HttpServer::HttpServer(JobStore& jobs, HttpServerOptions options)
+HttpServer::HttpServer(JobService& jobs, HttpServerOptions options)
     : impl_(std::make_unique<Impl>(jobs, std::move(options))) {
   impl_->install();
 }
@@ -473,8 +473,6 @@ void HttpServer::Impl::post_solve(const httplib::Request& req, httplib::Response
   if (read_body(req, res, reader, body) == Body::Sent) return;
   auto scene = decode(body, res);
   if (!scene) return;
-  body.clear();
-  body.shrink_to_fit();
   // Bounded: at most max_sync_waiters HTTP threads wait for a solve.
   if (sync_waiters.fetch_add(1) >= max_sync_waiters) {
     sync_waiters.fetch_sub(1);
@@ -483,7 +481,7 @@ void HttpServer::Impl::post_solve(const httplib::Request& req, httplib::Response
                "too many synchronous solves in progress; retry later or use POST /v1/jobs");
     return;
   }
-  SyncOutcome outcome = jobs.solve_now(std::move(*scene));
+  SyncOutcome outcome = jobs.solve_now(body, "");
   sync_waiters.fetch_sub(1);
   if (auto* r = std::get_if<JobResult>(&outcome)) {
     res.status = 200;
@@ -503,7 +501,7 @@ void HttpServer::Impl::post_job(const httplib::Request& req, httplib::Response& 
   if (read_body(req, res, reader, body) == Body::Sent) return;
   auto scene = decode(body, res);
   if (!scene) return;
-  SubmitOutcome outcome = jobs.submit(std::move(*scene), body);
+  SubmitOutcome outcome = jobs.submit(body, "");
   if (auto* s = std::get_if<JobStatus>(&outcome)) {
     json j = status_json(*s);
     res.set_header("Location", job_url(s->id));
@@ -564,13 +562,13 @@ void HttpServer::Impl::delete_job(const httplib::Request& req, httplib::Response
 }
 
 void HttpServer::Impl::health(httplib::Response& res) {
-  const JobStore::Counts c = jobs.counts();
+  const JobService::Counts c = jobs.counts();
   send_json(res, 200,
             {{"status", "ok"},
              {"version", LAMBERT_VERSION},
              {"scene_format", 1},
              {"workers", c.workers},
-             {"jobs", {{"queued", c.queued}, {"running", c.running}, {"stored", c.stored}}},
+             {"jobs", {{"queued", c.store.queued}, {"running", c.store.running + c.sync_running}, {"stored", c.store.stored()}}},
              {"queue_size", c.queue_size}});
 }
 

@@ -1,4 +1,4 @@
-// The HTTP service (SPEC §4): JSON over HTTP/1.1 in front of a JobStore. cpp-httplib is used only in
+// The HTTP service (SPEC §4): JSON over HTTP/1.1 in front of a JobService. cpp-httplib is used only in
 // http_server.cpp; this header does not expose it.
 //
 // Routes: POST /v1/solve, POST /v1/jobs, GET|DELETE /v1/jobs/{id}, GET /v1/jobs/{id}/result,
@@ -13,7 +13,8 @@
 #include <optional>
 #include <string>
 
-#include "server/job_store.h"
+#include "server/job_service.h"
+#include "server/scene_codec.h"
 
 namespace lambert {
 
@@ -33,7 +34,7 @@ FileAccess http_file_access(const std::optional<std::filesystem::path>& mesh_roo
 
 class HttpServer {
  public:
-  HttpServer(JobStore& jobs, HttpServerOptions options);
+  HttpServer(JobService& jobs, HttpServerOptions options);
   ~HttpServer();
   HttpServer(const HttpServer&) = delete;
   HttpServer& operator=(const HttpServer&) = delete;

@@ -1,53 +1,38 @@
-// Solve jobs for the HTTP service: a bounded queue, a fixed pool of solver workers, a per-job time
-// limit, progress, cancellation, and durable results.
+// Where the HTTP service keeps its jobs: one interface, two backends.
+//   FileJobStore (server/job_store_fs.h)  one machine: in memory, or durable in a data directory
+//   PgJobStore   (server/job_store_pg.h)  any number of instances sharing one PostgreSQL database
+// The store owns the queue, the job records and the results; server/job_service.h runs the solves.
 //
-// Life of a job: queued -> running -> done | failed | cancelled. Every solve (asynchronous jobs and
-// the synchronous POST /v1/solve alike) runs on one of the `workers` threads, never on an HTTP
-// thread, so at most `workers` scenes are solved at once and a huge scene holds one worker, not the
-// service. Each worker solves inside its own TBB arena, so the solver's parallel loops of one job
-// never run another job's tasks. Cancellation and the time limit both go through the solver's cancel
-// token (checked between work items); a watchdog thread raises the token when a job's time is up.
+// Life of a job: queued -> running -> done | failed | cancelled. A worker takes a queued job with
+// claim(), which hands it a Claim: the job's scene and a fencing token. While it solves it calls
+// renew() (PostgreSQL: the lease's heartbeat); renew() answers Lost once the job was cancelled,
+// removed, or taken over by another instance after its lease ran out, and the worker then stops.
+// finish() records the outcome only if the claim still holds, so a job is finished once, by the
+// last worker that claimed it, and a stale worker's result is discarded. release() hands a job back
+// to the queue (a server that shuts down without finishing it).
 //
-// With a data directory, a job is durable from the moment it is accepted:
-//   <data_dir>/jobs/<id>.scene.json   the scene, written before submit() returns; removed when the
-//                                     job reaches a final state
-//   <data_dir>/jobs/<id>.result.json  the result of a done job
-//   <data_dir>/jobs/<id>.job.json     the final state (done, failed with its reason, cancelled),
-//                                     written last: it is the commit record of a finished job
-// Every file is written to a temporary name, flushed and renamed, so a crash leaves either the old
-// state or the new one. On start the directory is read back: finished jobs are served again (until
-// they expire) and jobs that were accepted but not finished are queued again.
+// Results are content-addressed: each job carries a cache key (server/cache_key.h); a job submitted
+// or claimed while a result for its key is stored is done at once, without a solve.
 //
 // No HTTP here: server/http_server.cpp maps these outcomes onto status codes.
 #pragma once
 
 #include <chrono>
 #include <cstddef>
-#include <filesystem>
-#include <functional>
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <string>
 #include <variant>
-#include <vector>
-
-#include "server/scene_codec.h"
-#include "solver/scene.h"
 
 namespace lambert {
 
 enum class JobState { Queued, Running, Done, Failed, Cancelled };
 const char* to_string(JobState state);
-
-struct JobStoreOptions {
-  std::size_t workers = 1;                   // solver threads (>= 1)
-  std::size_t queue_size = 64;               // jobs waiting for a worker, beyond which submit refuses
-  std::chrono::duration<double> time_limit = std::chrono::seconds(600);  // per solve, running time
-  std::size_t max_patches = 0;               // passed to the solver; 0: the solver's own limit only
-  std::optional<std::filesystem::path> data_dir;  // none: results live in memory only
-  std::chrono::duration<double> result_ttl = std::chrono::hours(24 * 7);  // <= 0: keep forever
-  FileAccess files;                          // how scenes re-read from data_dir resolve "file"
-};
+std::optional<JobState> job_state_from_string(const std::string& text);
+inline bool is_final(JobState s) {
+  return s == JobState::Done || s == JobState::Failed || s == JobState::Cancelled;
+}
 
 struct JobStatus {
   std::string id;
@@ -57,6 +42,7 @@ struct JobStatus {
   std::chrono::system_clock::time_point created, finished;  // finished: only in a final state
   std::optional<std::chrono::system_clock::time_point> expires;  // finished and a TTL is set
   std::size_t queue_position = 0;            // queued: 1 = next to run
+  bool cached = false;                       // done from a stored result, without a solve
 };
 
 // What a request about one job can get back.
@@ -71,52 +57,67 @@ struct ShuttingDown {};
 struct StorageError { std::string message; };
 using SubmitOutcome = std::variant<JobStatus, QueueFull, ShuttingDown, StorageError>;
 
-// A synchronous solve: the result, or why there is none.
-struct SolveFailed { std::string reason; };
-using SyncOutcome = std::variant<JobResult, SolveFailed, QueueFull, ShuttingDown>;
-
 struct CancelOutcome {
   enum class Kind { NotFound, Cancelled, Removed } kind = Kind::NotFound;
   JobStatus status;                          // the job's status after the call
 };
 
+// A job taken by a worker. `token` grows with every claim of the job: the fencing token.
+struct Claim {
+  std::string id;
+  std::int64_t token = 0;
+  std::string scene_json;
+  std::string cache_key;
+};
+
+enum class Renewal { Held, Lost };
+
+// How a solve ended, for finish(): a result, or the reason there is none.
+struct JobOutcome {
+  std::shared_ptr<const std::string> result;  // set: done
+  std::string error;                          // failed: the reason, for the client
+  bool cancelled = false;                     // stopped by a user's DELETE (already recorded)
+};
+
+struct StoreCounts {
+  std::size_t queued = 0, running = 0, done = 0, failed = 0, cancelled = 0;
+  std::size_t stored() const { return queued + running + done + failed + cancelled; }
+};
+
 class JobStore {
  public:
-  // Starts the workers and the watchdog. With a data_dir, creates it if needed and reloads it;
-  // throws std::runtime_error when it cannot be used.
-  explicit JobStore(JobStoreOptions options);
-  ~JobStore();  // shutdown()
-  JobStore(const JobStore&) = delete;
-  JobStore& operator=(const JobStore&) = delete;
+  virtual ~JobStore() = default;
 
-  // Queues a decoded scene; `scene_json` is what gets persisted (and decoded again after a restart).
-  SubmitOutcome submit(Scene scene, const std::string& scene_json);
+  // Accepts a job (durable before it returns, where the backend is) unless `queue_limit` jobs are
+  // already queued. A stored result under `cache_key` makes it done at once (status.cached).
+  virtual SubmitOutcome submit(const std::string& scene_json, const std::string& cache_key,
+                               std::size_t queue_limit) = 0;
+  // The oldest queued job (PostgreSQL: or one whose lease ran out), now running for `instance`.
+  virtual std::optional<Claim> claim(const std::string& instance) = 0;
+  virtual Renewal renew(const Claim& claim, double progress) = 0;
+  // Records the outcome; false when the claim no longer holds (nothing recorded).
+  virtual bool finish(const Claim& claim, const JobOutcome& outcome) = 0;
+  virtual void release(const Claim& claim) = 0;
 
-  // Solves on the worker pool (same queue, limits and time limit) and waits for the outcome.
-  // Nothing of it is stored.
-  SyncOutcome solve_now(Scene scene);
+  virtual std::optional<JobStatus> status(const std::string& id) = 0;
+  virtual ResultLookup result(const std::string& id) = 0;
+  // Queued or running: cancelled (and kept, visible as such). Finished: removed with its result.
+  virtual CancelOutcome cancel_or_remove(const std::string& id) = 0;
+  // The stored result for a cache key, if any.
+  virtual std::shared_ptr<const std::string> cached_result(const std::string& cache_key) = 0;
+  virtual StoreCounts counts() = 0;
+  // Removes finished jobs older than the TTL (and results no job refers to any more).
+  virtual void sweep_expired() = 0;
 
-  std::optional<JobStatus> status(const std::string& id) const;
-  ResultLookup result(const std::string& id) const;
-
-  // Queued or running: cancels (promptly: a running solve stops at its next check of the token)
-  // and the job stays visible as "cancelled". Already finished: removes the job and its files.
-  CancelOutcome cancel_or_remove(const std::string& id);
-
-  struct Counts { std::size_t queued = 0, running = 0, stored = 0, workers = 0, queue_size = 0; };
-  Counts counts() const;
-
-  // Stops taking work, raises every running job's cancel token and joins the threads. Jobs that did
-  // not finish stay in data_dir (if any) and run again after a restart. Idempotent.
-  void shutdown();
+  // How often a running job's claim is renewed, and how often idle workers ask for work that
+  // another instance submitted (the local ones are woken at once).
+  virtual std::chrono::milliseconds renew_interval() const = 0;
+  virtual std::chrono::milliseconds poll_interval() const = 0;
+  virtual std::string describe() const = 0;  // for the startup line: "data in DIR", ...
 
   // A fresh job id: 128 random bits from the OS, as 32 lowercase hex digits.
   static std::string new_id();
   static bool is_valid_id(const std::string& id);
-
- private:
-  struct Impl;
-  std::unique_ptr<Impl> impl_;
 };
 
 }  // namespace lambert

@@ -5,6 +5,7 @@
 
 #include <pthread.h>
 #include <signal.h>
+#include <unistd.h>
 
 #include <atomic>
 #include <filesystem>
@@ -19,7 +20,8 @@
 
 #include "server/cli_parser.h"
 #include "server/http_server.h"
-#include "server/job_store.h"
+#include "server/job_service.h"
+#include "server/job_store_fs.h"
 
 namespace lambert {
 namespace {
@@ -36,6 +38,7 @@ struct ServeArgs {
   double job_time_limit_s = 300;
   std::size_t queue_size = 64;
   double result_ttl_s = 604800;
+  std::string job_memory_limit;  // empty: the machine's memory divided by the workers
   bool access_log = false;
 };
 
@@ -54,13 +57,40 @@ void define_options(cli::Options& o, ServeArgs& a) {
   o.number("--job-time-limit-s", a.job_time_limit_s, 0, kMaxSeconds, "running time limit per solve, 0 for none");
   o.count("--queue-size", a.queue_size, 1, 1000000, "jobs waiting for a worker before 503");
   o.number("--result-ttl-s", a.result_ttl_s, 0, kMaxSeconds, "keep finished jobs for S seconds, 0 for ever");
+  o.text("--job-memory-limit", a.job_memory_limit,
+         "address space of each solve's process: 4G, 512M or bytes, 0 for none "
+         "(default: the machine's memory divided by --threads)", "SIZE");
   o.flag("--access-log", a.access_log, "one line per request on stderr");
+}
+
+// "4G", "512M", "65536K" or plain bytes (binary multiples).
+std::optional<std::uint64_t> parse_size(std::string text) {
+  std::uint64_t unit = 1;
+  if (!text.empty()) switch (text.back()) {
+      case 'K': case 'k': unit = 1ull << 10; break;
+      case 'M': case 'm': unit = 1ull << 20; break;
+      case 'G': case 'g': unit = 1ull << 30; break;
+      case 'T': case 't': unit = 1ull << 40; break;
+      default: break;
+    }
+  if (unit != 1) text.pop_back();
+  if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos || text.size() > 15)
+    return std::nullopt;
+  const std::uint64_t n = std::stoull(text);
+  if (n > (std::uint64_t{1} << 50) / unit) return std::nullopt;
+  return n * unit;
+}
+
+std::uint64_t physical_memory_bytes() {
+  const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGESIZE);
+  return pages > 0 && page > 0 ? static_cast<std::uint64_t>(pages) * static_cast<std::uint64_t>(page) : 0;
 }
 
 struct ServeOptions {
   std::string host;
   int port = 0;
-  JobStoreOptions jobs;
+  JobServiceOptions jobs;
+  FileJobStoreOptions files;
   HttpServerOptions http;
 };
 
@@ -72,10 +102,23 @@ std::variant<ServeOptions, int> serve_options(const ServeArgs& a) {
   if (a.host.empty()) return cli::usage_error("serve", "--host: expected an address");
   o.jobs.workers = a.workers;
   o.jobs.queue_size = a.queue_size;
-  o.jobs.max_patches = a.max_patches;
+  o.jobs.limits.max_patches = a.max_patches;
   o.jobs.time_limit = std::chrono::duration<double>(a.job_time_limit_s);
-  o.jobs.result_ttl = std::chrono::duration<double>(a.result_ttl_s);
-  if (!a.data_dir.empty()) o.jobs.data_dir = std::filesystem::path(a.data_dir);
+  o.files.result_ttl = std::chrono::duration<double>(a.result_ttl_s);
+  if (!a.data_dir.empty()) o.files.data_dir = std::filesystem::path(a.data_dir);
+  o.jobs.limits.memory_bytes = physical_memory_bytes() / a.workers;
+  if (!a.job_memory_limit.empty()) {
+    const auto bytes = parse_size(a.job_memory_limit);
+    if (!bytes || (*bytes > 0 && *bytes < (std::uint64_t{64} << 20)))
+      return cli::usage_error("serve", "--job-memory-limit: '" + a.job_memory_limit +
+                                           "' is not a size of at least 64M (or 0 for none)");
+    o.jobs.limits.memory_bytes = *bytes;
+  }
+  // The worker processes run this very binary, even if its file was replaced since it started.
+  o.jobs.worker_executable = "/proc/self/exe";
+  char host[256] = "localhost";
+  ::gethostname(host, sizeof host - 1);
+  o.jobs.instance = std::string(host) + "/" + std::to_string(::getpid());
   o.http.http_threads = a.http_threads;
   o.http.max_body_bytes = a.max_body_bytes;
   o.http.access_log = a.access_log;
@@ -84,7 +127,7 @@ std::variant<ServeOptions, int> serve_options(const ServeArgs& a) {
     o.http.mesh_root = std::filesystem::canonical(a.mesh_root, ec);
     if (ec) return cli::usage_error("serve", "--mesh-root: '" + a.mesh_root + "' is not a usable directory");
   }
-  o.jobs.files = http_file_access(o.http.mesh_root);
+  o.jobs.limits.mesh_root = o.http.mesh_root;
   return o;
 }
 
@@ -101,9 +144,9 @@ int run_serve(const ServeArgs& args) {
   sigaddset(&signals, SIGTERM);
   pthread_sigmask(SIG_BLOCK, &signals, nullptr);
 
-  std::optional<JobStore> jobs;
+  std::optional<JobService> jobs;
   try {
-    jobs.emplace(o.jobs);
+    jobs.emplace(std::make_unique<FileJobStore>(o.files), o.jobs);
   } catch (const std::exception& e) {
     std::cerr << "lambert serve: " << e.what() << "\n";
     return 1;
@@ -117,7 +160,7 @@ int run_serve(const ServeArgs& args) {
   const bool ipv6 = o.host.find(':') != std::string::npos;
   std::cout << "lambert " << LAMBERT_VERSION << " listening on http://" << (ipv6 ? "[" : "") << o.host
             << (ipv6 ? "]" : "") << ":" << port << " (" << o.jobs.workers << " solver workers"
-            << (o.jobs.data_dir ? ", data in " + o.jobs.data_dir->string() : std::string(", results in memory"))
+            << (o.files.data_dir ? ", data in " + o.files.data_dir->string() : std::string(", results in memory"))
             << (o.http.mesh_root ? ", mesh root " + o.http.mesh_root->string() : std::string())
             << ")" << std::endl;
 
