@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "mesh/geometry.h"
+#include "mesh/mesh_file.h"  // read_mesh_file (Lambert's own readers)
 
 namespace lambert {
 
@@ -85,16 +86,6 @@ struct ContactImprint {
 ContactImprint imprint_contacts(const std::vector<TriangleMesh>& meshes, double tolerance = 1e-9);
 
 // ---- OpenMesh (mesh/openmesh_ops.cpp) --------------------------------------------------------
-
-struct MeshFileResult {
-  TriangleMesh mesh;           // polygons of the file fan-triangulated
-  std::string error;           // empty on success; why the file could not be read as given
-  bool ok() const { return error.empty(); }
-};
-
-// Reads OBJ, PLY, OFF or STL (chosen by extension) with OpenMesh. Refuses files that OpenMesh
-// altered while loading (dropped or duplicated faces and vertices), rather than silently losing them.
-MeshFileResult read_mesh_file(const std::string& path);
 
 // Splits triangles along their longest edge (conforming, geometry preserved exactly) until every
 // triangle has area <= max_area and its longest edge <= √(8 max_area) (only slivers are split for

@@ -1,23 +1,15 @@
-// OpenMesh side of mesh/mesh_ops.h: reading mesh files and longest-edge subdivision into patches.
+// OpenMesh side of mesh/mesh_ops.h: longest-edge subdivision into patches (mesh files are read by
+// Lambert's own readers, mesh/mesh_file.h).
 // This is the only translation unit that includes OpenMesh; no OpenMesh type leaves it.
-#include <OpenMesh/Core/IO/MeshIO.hh>  // first: older OpenMesh releases require it (STACK.md P12)
-#include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 #include <OpenMesh/Core/System/omstream.hh>
 
 #include <algorithm>
 #include <bit>
-#include <cctype>
 #include <cstdint>
-#include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <mutex>
 #include <numeric>
 #include <queue>
-#include <set>
-#include <sstream>
-#include <tuple>
 
 #include "mesh/mesh_ops.h"
 
@@ -29,7 +21,6 @@ struct DoubleTraits : OpenMesh::DefaultTraits {
   typedef OpenMesh::Vec3d Point;
   typedef OpenMesh::Vec3d Normal;
 };
-using OmPolyMesh = OpenMesh::PolyMesh_ArrayKernelT<DoubleTraits>;
 using OmTriMesh = OpenMesh::TriMesh_ArrayKernelT<DoubleTraits>;
 
 // OpenMesh reports problems (e.g. "complex edge") on its own streams; this module reports them as
@@ -45,264 +36,7 @@ void silence_openmesh() {
 
 Point3 to_point3(const OpenMesh::Vec3d& p) { return {p[0], p[1], p[2]}; }
 
-// ---- read_mesh_file -----------------------------------------------------------------------
-
-// Element counts as the file declares them, to detect faces or vertices OpenMesh dropped or
-// added while loading (STACK.md P13). vertices < 0: not comparable (STL stores corners per facet).
-struct FileCounts {
-  long vertices = -1;
-  long faces = -1;
-  std::string error;
-};
-
-std::string lower(std::string s) {
-  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
-
-FileCounts count_obj(std::istream& in) {
-  FileCounts c;
-  c.vertices = c.faces = 0;
-  std::string line;
-  while (std::getline(in, line)) {
-    std::istringstream s(line);
-    std::string tag;
-    s >> tag;
-    if (tag == "v") ++c.vertices;
-    else if (tag == "f") ++c.faces;
-  }
-  return c;
-}
-
-// OFF header: [ST][C][N][4][n]OFF [BINARY], comments with '#', then nV nF nE.
-FileCounts count_off(std::istream& in) {
-  FileCounts c;
-  std::vector<std::string> tokens;
-  std::string line;
-  while (tokens.size() < 6 && std::getline(in, line)) {
-    line = line.substr(0, line.find('#'));
-    std::istringstream s(line);
-    for (std::string t; s >> t;) tokens.push_back(t);
-  }
-  if (tokens.empty() || tokens[0].size() < 3 || tokens[0].substr(tokens[0].size() - 3) != "OFF") {
-    c.error = "not an OFF file (no OFF header)";
-    return c;
-  }
-  std::size_t k = 1;
-  if (k < tokens.size() && tokens[k] == "BINARY") ++k;
-  if (tokens[0].find('n') != std::string::npos) ++k;  // nOFF: dimension before the counts
-  try {
-    if (k + 1 >= tokens.size()) throw std::invalid_argument("missing counts");
-    c.vertices = std::stol(tokens[k]);
-    c.faces = std::stol(tokens[k + 1]);
-  } catch (const std::exception&) {
-    c.error = "OFF header has no vertex and face counts";
-  }
-  return c;
-}
-
-// OpenMesh's OFF reader misreads '#' comments (it then loads no vertices or faces) and counts on
-// the header line. Ascii OFF is therefore handed to it normalized: comments and blank lines
-// removed, the header keyword alone on the first line. Binary OFF is passed through unchanged.
-std::string normalize_ascii_off(const std::string& text, bool& binary) {
-  std::istringstream in(text);
-  std::ostringstream out;
-  std::string line;
-  bool header = true;
-  binary = false;
-  while (std::getline(in, line)) {
-    line = line.substr(0, line.find('#'));
-    std::istringstream s(line);
-    std::string first;
-    if (!(s >> first)) continue;  // blank or comment-only line
-    if (header) {
-      header = false;
-      std::string rest;
-      std::getline(s, rest);
-      if (rest.find("BINARY") != std::string::npos) {
-        binary = true;
-        return text;
-      }
-      out << first << '\n';
-      if (rest.find_first_not_of(" \t\r") != std::string::npos) out << rest << '\n';
-      continue;
-    }
-    out << line << '\n';
-  }
-  return out.str();
-}
-
-// PLY header (ascii for every PLY flavour): "element vertex N", "element face N".
-FileCounts count_ply(std::istream& in) {
-  FileCounts c;
-  std::string line;
-  while (std::getline(in, line)) {
-    std::istringstream s(line);
-    std::string word, element;
-    long n = -1;
-    s >> word;
-    if (word == "end_header") break;
-    if (word != "element") continue;
-    s >> element >> n;
-    if (element == "vertex") c.vertices = n;
-    if (element == "face") c.faces = n;
-  }
-  if (c.vertices < 0 || c.faces < 0) c.error = "PLY header declares no vertex or face element";
-  return c;
-}
-
-// STL: binary when the size matches the 84-byte header plus 50 bytes per facet, else ascii.
-FileCounts count_stl(const std::string& path) {
-  FileCounts c;
-  std::ifstream in(path, std::ios::binary);
-  char header[84] = {};
-  in.read(header, 84);
-  const auto size = std::filesystem::file_size(path);
-  if (in.gcount() == 84) {
-    std::uint32_t n = 0;
-    for (int i = 0; i < 4; ++i) n |= std::uint32_t(static_cast<unsigned char>(header[80 + i])) << (8 * i);
-    if (size == 84 + 50 * static_cast<std::uintmax_t>(n)) {
-      c.faces = n;
-      return c;
-    }
-  }
-  in.clear();
-  in.seekg(0);
-  c.faces = 0;
-  std::string line;
-  while (std::getline(in, line)) {
-    std::istringstream s(line);
-    std::string word;
-    s >> word;
-    if (word == "facet") ++c.faces;
-  }
-  return c;
-}
-
-MeshFileResult read_failure(const std::string& path, const std::string& why) {
-  MeshFileResult r;
-  r.error = path + ": " + why;
-  return r;
-}
-
-// Fan triangulation is right for convex faces; a face where some fan triangle turns against the
-// face's Newell normal is concave and goes through the constrained Delaunay triangulation.
-std::string append_face(const std::vector<int>& face, TriangleMesh& mesh) {
-  std::vector<Point3> p;
-  for (int i : face) p.push_back(mesh.vertices[i]);
-  Vector3 n;
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    const Point3 &a = p[i], &b = p[(i + 1) % p.size()];
-    n += Vector3{(a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x), (a.x - b.x) * (a.y + b.y)};
-  }
-  bool convex = true;
-  for (std::size_t i = 1; i + 1 < face.size(); ++i)
-    convex = convex && dot(cross(p[i] - p[0], p[i + 1] - p[0]), n) > 0;
-  if (convex || face.size() == 3) {
-    for (std::size_t i = 1; i + 1 < face.size(); ++i)
-      mesh.triangles.push_back({face[0], face[i], face[i + 1]});
-    return {};
-  }
-  // Concave polygons in files are planar only to the precision of the written digits.
-  PolygonTriangulation t = triangulate_polygon(p, 1e-4);
-  if (!t.ok()) return t.error;
-  for (const auto& tri : t.mesh.triangles) mesh.triangles.push_back({face[tri[0]], face[tri[1]], face[tri[2]]});
-  return {};
-}
-
-}  // namespace
-
-MeshFileResult read_mesh_file(const std::string& path) {
-  namespace fs = std::filesystem;
-  std::error_code ec;
-  if (!fs::exists(path, ec)) return read_failure(path, "file does not exist");
-  if (!fs::is_regular_file(path, ec)) return read_failure(path, "not a regular file");
-  const std::string ext = lower(fs::path(path).extension().string());
-  if (ext != ".obj" && ext != ".ply" && ext != ".off" && ext != ".stl")
-    return read_failure(path, "unsupported extension '" + ext + "' (expected .obj, .ply, .off or .stl)");
-
-  FileCounts counts;
-  std::string normalized_off;  // non-empty: ascii OFF given to OpenMesh from memory
-  if (ext == ".stl") {
-    counts = count_stl(path);
-  } else {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) return read_failure(path, "cannot open the file");
-    if (ext == ".off") {
-      const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-      bool binary = false;
-      std::string normalized = normalize_ascii_off(text, binary);
-      std::istringstream header(normalized);
-      counts = count_off(header);
-      if (!binary) normalized_off = std::move(normalized);
-    } else {
-      counts = ext == ".obj" ? count_obj(in) : count_ply(in);
-    }
-  }
-  if (!counts.error.empty()) return read_failure(path, counts.error);
-
-  silence_openmesh();
-  OmPolyMesh om;
-  {
-    // OpenMesh's IO manager and readers are process-wide singletons with state.
-    static std::mutex io_mutex;
-    std::lock_guard<std::mutex> lock(io_mutex);
-    OpenMesh::IO::Options options;
-    bool parsed = false;
-    if (normalized_off.empty()) {
-      parsed = OpenMesh::IO::read_mesh(om, path, options);
-    } else {
-      std::istringstream in(normalized_off);
-      parsed = OpenMesh::IO::read_mesh(om, in, ".off", options);
-    }
-    if (!parsed) return read_failure(path, "OpenMesh could not parse the file");
-  }
-
-  const long nv = static_cast<long>(om.n_vertices()), nf = static_cast<long>(om.n_faces());
-  if (counts.faces == 0) return read_failure(path, "the file has no faces");
-  if (nf != counts.faces)
-    return read_failure(path, "OpenMesh loaded " + std::to_string(nf) + " of the " +
-                                  std::to_string(counts.faces) +
-                                  " faces in the file (faces with a repeated or invalid vertex, "
-                                  "or fewer than 3 vertices, were dropped)");
-  if (nf == 0) return read_failure(path, "the file has no faces");
-  long file_vertices = counts.vertices;
-  if (file_vertices < 0) {  // STL: OpenMesh merges corners, so any repeated position was added by it
-    std::set<std::tuple<double, double, double>> distinct;
-    for (const auto v : om.vertices()) {
-      const auto& p = om.point(v);
-      distinct.emplace(p[0], p[1], p[2]);
-    }
-    file_vertices = static_cast<long>(distinct.size());
-  }
-  if (nv != file_vertices)
-    return read_failure(path, "OpenMesh turned the " + std::to_string(file_vertices) +
-                                  " vertices of the file into " + std::to_string(nv) +
-                                  " (faces at a non-manifold edge or vertex were detached onto "
-                                  "duplicated vertices): the mesh is non-manifold");
-
-  MeshFileResult result;
-  result.mesh.vertices.reserve(nv);
-  for (const auto v : om.vertices()) {
-    const Point3 p = to_point3(om.point(v));
-    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
-      return read_failure(path, "vertex " + std::to_string(v.idx()) + " has a non-finite coordinate");
-    result.mesh.vertices.push_back(p);
-  }
-  std::vector<int> face;
-  for (const auto f : om.faces()) {
-    face.clear();
-    for (const auto v : om.fv_range(f)) face.push_back(v.idx());
-    const std::string error = append_face(face, result.mesh);
-    if (!error.empty())
-      return read_failure(path, "face " + std::to_string(f.idx()) + " cannot be triangulated: " + error);
-  }
-  return result;
-}
-
 // ---- subdivide_to_max_area ----------------------------------------------------------------
-
-namespace {
 
 double triangle_area(const Point3& a, const Point3& b, const Point3& c) {
   return 0.5 * length(cross(b - a, c - a));

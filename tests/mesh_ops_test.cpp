@@ -1,5 +1,5 @@
-// Tests of mesh/mesh_ops.h: polygon triangulation and mesh checks (CGAL), file reading and
-// subdivision (OpenMesh). Expected areas come from closed forms (shoelace, box and tetrahedron
+// Tests of mesh/mesh_ops.h: polygon triangulation and mesh checks (CGAL) and subdivision (OpenMesh);
+// mesh files are tested in mesh_file_test.cpp. Expected areas come from closed forms (shoelace, box and tetrahedron
 // surface areas) written next to each number.
 #include "mesh/mesh_ops.h"
 
@@ -330,14 +330,7 @@ TEST(CheckMesh, FinIsNonManifold) {
   EXPECT_EQ(h.boundary_edges, 6);  // the two free edges of each triangle
 }
 
-// ---- read_mesh_file -----------------------------------------------------------------------
-
-void expect_bounds(const TriangleMesh& m, const Point3& lo, const Point3& hi) {
-  Bounds3 b;
-  for (const Point3& p : m.vertices) b.add(p);
-  EXPECT_EQ(b.lo, lo);
-  EXPECT_EQ(b.hi, hi);
-}
+// ---- subdivide_to_max_area ----------------------------------------------------------------
 
 // Volume by the divergence theorem: positive when all faces face outwards.
 double signed_volume(const TriangleMesh& m) {
@@ -346,107 +339,6 @@ double signed_volume(const TriangleMesh& m) {
     v += dot(to_vector(m.triangle(t).centroid()), m.triangle(t).area_vector()) / 3;
   return v;
 }
-
-void expect_box(const MeshFileResult& r) {
-  ASSERT_TRUE(r.ok()) << r.error;
-  EXPECT_EQ(r.mesh.vertices.size(), 8u);
-  EXPECT_EQ(r.mesh.triangles.size(), 12u);           // 6 quads, 2 triangles each
-  EXPECT_NEAR(total_area(r.mesh), 52.0, 1e-12);      // 2 (2*3 + 2*4 + 3*4)
-  EXPECT_NEAR(signed_volume(r.mesh), 24.0, 1e-12);   // 2*3*4, outward orientation kept
-  expect_bounds(r.mesh, {0, 0, 0}, {2, 3, 4});
-  const MeshHealth h = check_mesh(r.mesh);
-  EXPECT_EQ(h.boundary_edges, 0);
-  EXPECT_TRUE(h.consistently_oriented);
-}
-
-void expect_tetra(const MeshFileResult& r) {
-  ASSERT_TRUE(r.ok()) << r.error;
-  EXPECT_EQ(r.mesh.vertices.size(), 4u);
-  EXPECT_EQ(r.mesh.triangles.size(), 4u);
-  EXPECT_NEAR(total_area(r.mesh), 1.5 + std::sqrt(3.0) / 2, 1e-12);  // three right triangles + one equilateral of side sqrt 2
-  EXPECT_NEAR(signed_volume(r.mesh), 1.0 / 6, 1e-15);
-  expect_bounds(r.mesh, {0, 0, 0}, {1, 1, 1});
-}
-
-TEST(ReadMeshFile, ObjQuadsWithTextureCoordinates) { expect_box(read_mesh_file(kData + "box.obj")); }
-TEST(ReadMeshFile, AsciiPly) { expect_box(read_mesh_file(kData + "box.ply")); }
-TEST(ReadMeshFile, Off) { expect_tetra(read_mesh_file(kData + "tetra.off")); }
-TEST(ReadMeshFile, OffWithCountsOnTheHeaderLine) {
-  // OpenMesh alone reads this as an empty mesh; the reader normalizes the header first.
-  const auto path = std::filesystem::temp_directory_path() / "lambert_mesh_ops_test_tetra.off";
-  std::ofstream(path) << "OFF 4 4 6 # counts\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n\n"
-                         "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3 # last face\n";
-  expect_tetra(read_mesh_file(path.string()));
-  std::filesystem::remove(path);
-}
-TEST(ReadMeshFile, AsciiStl) { expect_tetra(read_mesh_file(kData + "tetra.stl")); }
-
-TEST(ReadMeshFile, BinaryStl) {
-  // The ascii tetrahedron written as binary STL: 80-byte header, facet count, 50 bytes a facet.
-  const float facets[4][9] = {{0, 0, 0, 0, 1, 0, 1, 0, 0},
-                              {0, 0, 0, 1, 0, 0, 0, 0, 1},
-                              {0, 0, 0, 0, 0, 1, 0, 1, 0},
-                              {1, 0, 0, 0, 1, 0, 0, 0, 1}};
-  const auto path = std::filesystem::temp_directory_path() / "lambert_mesh_ops_test_tetra.stl";
-  {
-    std::ofstream out(path, std::ios::binary);
-    const char header[80] = "binary tetra";
-    out.write(header, 80);
-    const std::uint32_t n = 4;
-    out.write(reinterpret_cast<const char*>(&n), 4);
-    for (const auto& f : facets) {
-      const float normal[3] = {0, 0, 0};
-      const std::uint16_t attribute = 0;
-      out.write(reinterpret_cast<const char*>(normal), 12);
-      out.write(reinterpret_cast<const char*>(f), 36);
-      out.write(reinterpret_cast<const char*>(&attribute), 2);
-    }
-  }
-  expect_tetra(read_mesh_file(path.string()));
-  std::filesystem::remove(path);
-}
-
-TEST(ReadMeshFile, ConcaveFaceIsTriangulatedInsideIt) {
-  const MeshFileResult r = read_mesh_file(kData + "l_shape.obj");
-  ASSERT_TRUE(r.ok()) << r.error;
-  EXPECT_EQ(r.mesh.triangles.size(), 4u);
-  EXPECT_NEAR(total_area(r.mesh), 3.0, 1e-12);  // shoelace area of the L
-  for (std::size_t t = 0; t < r.mesh.triangles.size(); ++t) {
-    EXPECT_GT(r.mesh.triangle(t).area_vector().z, 0) << "triangle " << t;
-    const Point3 c = r.mesh.triangle(t).centroid();
-    EXPECT_FALSE(c.x > 1 && c.y > 1) << "triangle " << t << " covers the notch";
-  }
-}
-
-TEST(ReadMeshFile, MissingFileAndBadExtension) {
-  const MeshFileResult r = read_mesh_file(kData + "no_such_file.obj");
-  EXPECT_TRUE(contains(r.error, "does not exist")) << r.error;
-  const MeshFileResult e = read_mesh_file(kData + "../mesh_ops_test.cpp");
-  EXPECT_TRUE(contains(e.error, "unsupported extension '.cpp'")) << e.error;
-}
-
-TEST(ReadMeshFile, RefusesFileWithoutFaces) {
-  const auto path = std::filesystem::temp_directory_path() / "lambert_mesh_ops_test_points.obj";
-  std::ofstream(path) << "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
-  const MeshFileResult r = read_mesh_file(path.string());
-  EXPECT_TRUE(contains(r.error, "no faces")) << r.error;
-  std::filesystem::remove(path);
-}
-
-TEST(ReadMeshFile, RefusesFaceDroppedByOpenMesh) {
-  // repeated_vertex.obj has 3 faces; OpenMesh drops "f 2 3 3" and would return 2.
-  const MeshFileResult r = read_mesh_file(kData + "repeated_vertex.obj");
-  EXPECT_TRUE(contains(r.error, "OpenMesh loaded 2 of the 3 faces")) << r.error;
-}
-
-TEST(ReadMeshFile, RefusesNonManifoldFinDetachedByOpenMesh) {
-  // fin.obj: 5 vertices; OpenMesh re-adds the third face on the edge with 3 new vertices.
-  const MeshFileResult r = read_mesh_file(kData + "fin.obj");
-  EXPECT_TRUE(contains(r.error, "turned the 5 vertices of the file into 8")) << r.error;
-  EXPECT_TRUE(contains(r.error, "non-manifold")) << r.error;
-}
-
-// ---- subdivide_to_max_area ----------------------------------------------------------------
 
 TriangleMesh unit_square() {
   TriangleMesh m;
