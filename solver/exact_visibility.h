@@ -76,6 +76,14 @@ class ExactVisibility {
    public:
     // F(dA_p -> visible part of `part`), `part` a triangle inside the source (its plane).
     double factor_of(const Triangle& part) const;
+    // The loops themselves, for integrals over the visible part other than the factor (a sky's
+    // luminance): point (u, v) of a loop is origin() + e1() u + e2() v. Each loop is convex (but with
+    // Beyond::kCgalBooleans) and signed by its orientation, counter-clockwise about the source's normal
+    // adding, clockwise subtracting; all lie in the part of the source in front of p's horizon.
+    const std::vector<Loop2d>& loops() const { return loops_; }
+    const Point3& origin() const { return origin_; }
+    const Vector3& e1() const { return e1_; }
+    const Vector3& e2() const { return e2_; }
 
    private:
     friend class ExactVisibility;

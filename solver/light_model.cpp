@@ -5,7 +5,7 @@
 
 namespace lambert {
 
-std::unique_ptr<LightModel> make_light_model(const Light& light) {
+std::unique_ptr<LightModel> make_light_model(const Light& light, const LightContext&) {
   if (const auto* a = std::get_if<AmbientLight>(&light)) return make_ambient_light(*a);
   if (const auto* d = std::get_if<DirectionalLight>(&light)) return make_directional_light(*d);
   const PointLight& p = std::get<PointLight>(light);

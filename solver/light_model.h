@@ -3,17 +3,20 @@
 // a purely geometric factor g computed here.
 //   - point-like sources (point, goniometric, spot, Warn): S = I_0(λ) [W sr^-1 nm^-1], g in sr m^-2;
 //   - directional and ambient light: S = irradiance [W m^-2 nm^-1], g dimensionless;
-//   - a Phong-lobed emitting patch: S = exitance R(λ) [W m^-2 nm^-1], g dimensionless.
+//   - a Phong-lobed emitting patch: S = exitance R(λ) [W m^-2 nm^-1], g dimensionless;
+//   - a sky: S = its zenith radiance L_z(λ) [W m^-2 sr^-1 nm^-1], g in sr.
 // Measures: point_factor is per unit area at a point; patch_factor is the area average over a
 // triangle (the flux onto it per unit S, divided by its area); flux_factor is the flux the source
 // emits per unit S (sr for intensity sources, m² for an emitting patch).
 #pragma once
 
 #include <memory>
+#include <span>
 #include <vector>
 
 #include "mesh/geometry.h"
 #include "solver/scene.h"
+#include "solver/solids.h"
 #include "solver/visibility.h"
 
 namespace lambert {
@@ -41,7 +44,20 @@ class LightModel {
   virtual double flux_factor() const = 0;
 };
 
-std::unique_ptr<LightModel> make_light_model(const Light& light);
+// What a light may ask of the scene it lights, beyond rays: the sources stage fills it once per solve,
+// after the scene is prepared (re-centred, contacts cut). The point-like, directional and ambient
+// lights ignore it.
+struct LightContext {
+  // The scene's input triangles in metres (the occluders of exact visibility), and the solids they
+  // bound if known (solver/solids.h; null: none taken for solids).
+  std::span<const Triangle> occluders;
+  const OutwardSolids* solids = nullptr;
+  // Whether the context describes the scene (false: the default, for callers that have no scene;
+  // a light that needs one then refuses to be made).
+  bool has_scene = false;
+};
+
+std::unique_ptr<LightModel> make_light_model(const Light& light, const LightContext& context = {});
 
 // The factories behind make_light_model, one per model file in solver/lights/.
 std::unique_ptr<LightModel> make_ambient_light(const AmbientLight& light);          // ambient.cpp
@@ -49,6 +65,9 @@ std::unique_ptr<LightModel> make_directional_light(const DirectionalLight& light
 std::unique_ptr<LightModel> make_point_light(const PointLight& light);        // point.cpp: Kind::Point
 std::unique_ptr<LightModel> make_goniometric_light(const PointLight& light);  // goniometric.cpp: also Warn
 std::unique_ptr<LightModel> make_spot_light(const PointLight& light);         // spot.cpp
+// sky.cpp: throws std::invalid_argument without a scene in the context (its light depends on what
+// the scene hides of the sky).
+std::unique_ptr<LightModel> make_sky_light(const SkyLight& light, const LightContext& context);
 
 // A Phong-lobed emitting patch (SPEC §1): dI/dA(ψ) = R (n+1)/(2π ω0) cos^n ψ, ψ from the patch's
 // normal, n ≥ 1, so that it emits exactly R [W m^-2]. Used by the solve for lobe exponents ≠ 1: its

@@ -72,6 +72,18 @@ struct PointLight {
   Attenuation attenuation;
   bool inverse_square = true;       // false: use attenuation polynomial
 };
+// A sky (solver/lights/sky_luminance.h, sky_dome.h): an area source at infinity whose luminance over
+// the directions above the horizon is L_z(λ) (L/L_z)(ω), with the ground below the horizon a uniform
+// Lambertian hemisphere of luminance L_g = ρ_g E_h / π (E_h: the sky's unobstructed horizontal
+// illuminance), reaching every point by exact integration over the part of the sky it sees.
+struct SkyLight {
+  enum class Model { kGeneral, kCieOvercast, kUniform } model = Model::kCieOvercast;
+  int cie_type = 16;                // 1–15 for kGeneral
+  Vector3 up{0, 0, 1};              // unit
+  std::optional<Vector3> sun;       // unit, towards the sun (the skies whose distribution depends on it)
+  double ground_reflectance = 0.2;  // ρ_g in [0, 1]
+  std::vector<double> zenith_radiance_W_m2_sr_nm;  // L_z(λ)
+};
 using Light = std::variant<AmbientLight, DirectionalLight, PointLight>;
 
 struct Probe {
