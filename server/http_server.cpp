@@ -26,6 +26,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "server/result_views.h"
+
 #ifndef LAMBERT_VERSION
 #define LAMBERT_VERSION "unknown"
 #endif
@@ -192,19 +194,28 @@ bool route_matches(const Route& route, const std::string& path) {
   return true;
 }
 
+// A file name as a regular expression that matches only itself.
+std::string escape_dots(const std::string& name) {
+  std::string out;
+  for (char c : name) out += c == '.' ? std::string("\\.") : std::string(1, c);
+  return out;
+}
+
 std::vector<Route> make_routes() {
   auto route = [](const std::string& path, std::vector<std::string> methods) {
     std::string allow;
     for (const auto& m : methods) allow += (allow.empty() ? "" : ", ") + m + (m == "GET" ? ", HEAD" : "");
     return Route{split_path(path), std::move(methods), std::move(allow)};
   };
-  return {route("/v1/solve", {"POST"}),
-          route("/v1/jobs", {"POST"}),
-          route("/v1/jobs/*", {"GET", "DELETE"}),
-          route("/v1/jobs/*/result", {"GET"}),
-          route("/v1/health", {"GET"}),
-          route("/v1/openapi.json", {"GET"}),
-          route("/v1/schema/scene.json", {"GET"})};
+  std::vector<Route> routes = {route("/v1/solve", {"POST"}),
+                               route("/v1/jobs", {"POST"}),
+                               route("/v1/jobs/*", {"GET", "DELETE"}),
+                               route("/v1/jobs/*/result", {"GET"}),
+                               route("/v1/health", {"GET"}),
+                               route("/v1/openapi.json", {"GET"}),
+                               route("/v1/schema/scene.json", {"GET"})};
+  for (const ResultView& view : result_views()) routes.push_back(route("/v1/jobs/*/" + view.file, {"GET"}));
+  return routes;
 }
 
 std::optional<std::size_t> content_length(const httplib::Request& req) {
@@ -264,7 +275,8 @@ struct HttpServer::Impl {
   void post_solve(const httplib::Request& req, httplib::Response& res, const httplib::ContentReader& reader);
   void post_job(const httplib::Request& req, httplib::Response& res, const httplib::ContentReader& reader);
   void get_job(const httplib::Request& req, httplib::Response& res);
-  void get_result(const httplib::Request& req, httplib::Response& res);
+  // The result as JSON, or (with `view`) in one of the exchange formats of result_views.h.
+  void get_result(const httplib::Request& req, httplib::Response& res, const ResultView* view = nullptr);
   void delete_job(const httplib::Request& req, httplib::Response& res, const httplib::ContentReader& reader);
   void health(httplib::Response& res);
 
@@ -383,6 +395,9 @@ void HttpServer::Impl::install() {
   });
   server.Get(R"(/v1/jobs/([^/]+)/result)",
              [this](const httplib::Request& req, httplib::Response& res) { get_result(req, res); });
+  for (const ResultView& view : result_views())
+    server.Get(R"(/v1/jobs/([^/]+)/)" + escape_dots(view.file),
+               [this, &view](const httplib::Request& req, httplib::Response& res) { get_result(req, res, &view); });
   server.Get("/v1/health", [this](const httplib::Request&, httplib::Response& res) { health(res); });
   server.Get("/v1/openapi.json", [](const httplib::Request&, httplib::Response& res) {
     res.set_content(openapi_document(), kJsonType);
@@ -522,11 +537,16 @@ void HttpServer::Impl::get_job(const httplib::Request& req, httplib::Response& r
   send_json(res, 200, status_json(*status));
 }
 
-void HttpServer::Impl::get_result(const httplib::Request& req, httplib::Response& res) {
+void HttpServer::Impl::get_result(const httplib::Request& req, httplib::Response& res, const ResultView* view) {
   const std::string id = req.matches[1];
   if (!JobStore::is_valid_id(id)) return send_error(res, 404, "not_found", "no job " + id);
   ResultLookup lookup = jobs.result(id);
-  if (auto* r = std::get_if<JobResult>(&lookup)) {
+  if (auto* r = std::get_if<JobResult>(&lookup); r && view) {
+    ResultViewOutcome out = view->render(*r->json, req.params);
+    if (!out.error.empty()) return send_error(res, 400, "invalid_parameter", out.error);
+    res.status = 200;
+    res.set_content(std::move(out.body), view->media_type);
+  } else if (r) {
     res.status = 200;
     res.set_content(*r->json, kJsonType);
   } else if (auto* n = std::get_if<JobNotDone>(&lookup)) {

@@ -9,11 +9,10 @@
 #include <cstdio>
 #include <cstdlib>
 #include <limits>
-#include <map>
-#include <tuple>
 #include <sstream>
 #include <stdexcept>
 
+#include "server/export/corner_values.h"
 #include "solver/spectrum.h"
 #include "solver/visibility.h"
 
@@ -149,28 +148,15 @@ Image render(const RenderPatches& patches, const Camera& camera, const RenderOpt
     for (std::size_t i = 0; i < N && !(white > 0); ++i) white = std::max(white, patches.luminance_cd_m2[i]);
     if (!(white > 0)) white = 1;
   }
-  // Smooth shading: the vertices' area-weighted mean radiance over the patches of one surface.
+  // Smooth shading: each corner's area-weighted mean radiance over the patches of its surface that
+  // meet there without a crease (corner_values.h), as the exported files carry it.
   std::vector<std::array<double, 3>> vertex_srgb;
   if (options.smooth) {
-    std::map<std::tuple<int, double, double, double>, std::array<double, 4>> at_vertex;  // Σ A srgb, Σ A
-    auto key = [&](std::size_t i, int k) {
-      const Point3& v = patches.triangles[i].v[k];
-      return std::tuple{patches.surface.empty() ? 0 : patches.surface[i], v.x, v.y, v.z};
-    };
-    for (std::size_t i = 0; i < N; ++i) {
-      const double a = patches.triangles[i].area();
-      for (int k = 0; k < 3; ++k) {
-        auto& acc = at_vertex[key(i, k)];
-        for (int c = 0; c < 3; ++c) acc[c] += a * patches.srgb[i][c];
-        acc[3] += a;
-      }
-    }
+    std::vector<double> flat(3 * N);
+    for (std::size_t i = 0; i < N; ++i) std::copy_n(patches.srgb[i].begin(), 3, &flat[3 * i]);
+    const std::vector<double> at = corner_values(patches.triangles, patches.surface, flat, 3, Shading::Smooth);
     vertex_srgb.resize(3 * N);
-    for (std::size_t i = 0; i < N; ++i)
-      for (int k = 0; k < 3; ++k) {
-        const auto& acc = at_vertex[key(i, k)];
-        for (int c = 0; c < 3; ++c) vertex_srgb[3 * i + k][c] = acc[3] > 0 ? acc[c] / acc[3] : patches.srgb[i][c];
-      }
+    for (std::size_t c = 0; c < 3 * N; ++c) std::copy_n(&at[3 * c], 3, vertex_srgb[c].begin());
   }
   // The radiance patch i shows at `point`: its own, or interpolated from its vertices.
   auto diffuse = [&](std::size_t i, const Point3& point) {

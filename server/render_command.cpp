@@ -14,6 +14,7 @@
 #include "server/cli_common.h"
 #include "server/cli_parser.h"
 #include "server/cli_progress.h"
+#include "server/export/result_model.h"
 #include "server/render.h"
 #include "server/scene_codec.h"
 #include "solver/form_factor.h"
@@ -47,56 +48,17 @@ std::array<double, 3> linear_srgb(const std::vector<double>& L, const Scene& sce
   return xyz_to_linear_srgb(c);
 }
 
-// A result file's patches (vertices in scene units), with the white point its srgb_encoded implies.
-struct ResultPatches {
-  RenderPatches patches;
-  std::optional<double> white_cd_m2;
-  std::map<std::string, int> surface_index;
-};
-
-ResultPatches result_patches(const json& doc) {
-  ResultPatches out;
-  const json& list = doc.at("patches");
-  if (!list.is_array() || list.empty()) throw std::invalid_argument("/patches: expected a non-empty array");
-  for (std::size_t i = 0; i < list.size(); ++i) {
-    const json& p = list[i];
-    const std::string where = "/patches/" + std::to_string(i);
-    auto number = [&](const json& v, const std::string& field) {
-      if (!v.is_number()) throw std::invalid_argument(where + "/" + field + ": expected a number");
-      return v.get<double>();
-    };
-    if (!p.is_object() || !p.contains("vertices") || !p.contains("srgb") || !p.contains("luminance_cd_m2") ||
-        !p.contains("illuminance_lx"))
-      throw std::invalid_argument(where + ": expected vertices, srgb, luminance_cd_m2 and illuminance_lx");
-    const json& v = p["vertices"];
-    if (!v.is_array() || v.size() != 3) throw std::invalid_argument(where + "/vertices: expected three points");
-    Triangle t;
-    for (int k = 0; k < 3; ++k) {
-      if (!v[k].is_array() || v[k].size() != 3) throw std::invalid_argument(where + "/vertices: expected three points");
-      t.v[k] = {number(v[k][0], "vertices"), number(v[k][1], "vertices"), number(v[k][2], "vertices")};
-    }
-    const json& c = p["srgb"];
-    if (!c.is_array() || c.size() != 3) throw std::invalid_argument(where + "/srgb: expected three numbers");
-    const std::array<double, 3> srgb{number(c[0], "srgb"), number(c[1], "srgb"), number(c[2], "srgb")};
-    out.patches.triangles.push_back(t);
-    out.patches.srgb.push_back(srgb);
-    out.patches.luminance_cd_m2.push_back(number(p["luminance_cd_m2"], "luminance_cd_m2"));
-    out.patches.illuminance_lx.push_back(number(p["illuminance_lx"], "illuminance_lx"));
-    out.patches.emits.push_back(0);
-    const std::string surface = p.contains("surface") && p["surface"].is_string() ? p["surface"].get<std::string>() : "";
-    out.patches.surface.push_back(out.surface_index.try_emplace(surface, static_cast<int>(out.surface_index.size())).first->second);
-    // srgb_encoded = encode(srgb × scale) with scale = 1 / white: any channel strictly inside (0, 1)
-    // gives the scale back.
-    if (!out.white_cd_m2 && p.contains("srgb_encoded") && p["srgb_encoded"].is_array() && p["srgb_encoded"].size() == 3)
-      for (int k = 0; k < 3; ++k) {
-        const json& e = p["srgb_encoded"][k];
-        if (!e.is_number() || !(srgb[k] > 0)) continue;
-        const double encoded = e.get<double>();
-        if (encoded > 0.05 && encoded < 0.95) {
-          out.white_cd_m2 = srgb[k] / srgb_decode(encoded);
-          break;
-        }
-      }
+// A result file's patches (vertices in scene units) as render draws them: none marked as emitting,
+// so that the white comes from the result itself (display_white).
+RenderPatches patches_of(const ResultModel& model) {
+  RenderPatches out;
+  for (const ResultPatch& p : model.patches) {
+    out.triangles.push_back(p.triangle);
+    out.srgb.push_back(p.srgb);
+    out.luminance_cd_m2.push_back(p.luminance_cd_m2);
+    out.illuminance_lx.push_back(p.illuminance_lx);
+    out.emits.push_back(0);
+    out.surface.push_back(p.surface);
   }
   return out;
 }
@@ -177,12 +139,9 @@ RenderPatches render_patches(const Scene& scene, const Solution& sol, const Repo
 }
 
 RenderPatches result_render_patches(const std::string& result_json, std::optional<double>& white_cd_m2) {
-  const json doc = json::parse(result_json, nullptr, false);
-  if (doc.is_discarded() || !doc.is_object() || !doc.contains("patches"))
-    throw std::invalid_argument("not a result (a JSON object with \"patches\")");
-  ResultPatches result = result_patches(doc);
-  white_cd_m2 = result.white_cd_m2;
-  return std::move(result.patches);
+  const ResultModel model = read_result(result_json);
+  white_cd_m2 = model.white_cd_m2;
+  return patches_of(model);
 }
 
 namespace {
@@ -213,9 +172,9 @@ int run_render(const RenderArgs& args) {
   std::optional<Solution> solution;
   try {
     if (doc.contains("patches")) {
-      ResultPatches result = result_patches(doc);
-      patches = std::move(result.patches);
-      if (!options.white_cd_m2) options.white_cd_m2 = result.white_cd_m2;
+      const ResultModel model = read_result(text);
+      patches = patches_of(model);
+      if (!options.white_cd_m2) options.white_cd_m2 = model.white_cd_m2;
     } else {
       scene = decode_scene_file(input, text);
       if (!scene) return 2;

@@ -147,6 +147,8 @@ TEST(Cli, BadUsageExitsTwoNamingTheProblem) {
       {{"render", "x.json", "-o", "x.png", "--white", "-1"}, "--white: '-1' is not a number greater than 0"},
       {{"bench", "--scaling", "10"}, "--scaling: '10' is not a number from 1000 to 2e6"},
       {{"bench", "--scaling", "5000", "--quick"}, "excludes"},
+      {{"export", "r.json"}, "lambert export: --output is required"},
+      {{"export", "r.json", "-o", "x.glb", "--shading", "soft"}, "--shading: 'soft' is not one of: smooth, flat"},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(::testing::PrintToString(c.args));
@@ -176,6 +178,17 @@ TEST(Cli, SolveAndCheckKeepTheirOptions) {
   EXPECT_EQ(to_stdout.status, 0);
   EXPECT_EQ(to_stdout.out.find("{"), 0u);
   EXPECT_FALSE(to_stdout.err.empty());
+
+  // export: the format from the extension; a file that is not a result is bad input.
+  const Outcome exported = run({"export", result.string(), "-o", (dir.path() / "r.glb").string()});
+  EXPECT_EQ(exported.status, 0) << exported.err;
+  EXPECT_EQ(read_text(dir.path() / "r.glb").substr(0, 4), "glTF");
+  const Outcome no_format = run({"export", result.string(), "-o", (dir.path() / "r.txt").string()});
+  EXPECT_EQ(no_format.status, 2);
+  EXPECT_NE(no_format.err.find(".glb, .ply or .csv"), std::string::npos) << no_format.err;
+  const Outcome scene_given = run({"export", scene.string(), "-o", (dir.path() / "s.glb").string()});
+  EXPECT_EQ(scene_given.status, 2);
+  EXPECT_NE(scene_given.err.find("a result of lambert solve is expected"), std::string::npos) << scene_given.err;
 
   std::ofstream(dir.path() / "bad.json") << R"({"lambert": 1, "surfaces": 3})";
   const Outcome bad = run({"check", (dir.path() / "bad.json").string()});
