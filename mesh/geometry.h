@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <tuple>
+#include <utility>
 #include <vector>
 
 namespace lambert {
@@ -66,6 +67,19 @@ constexpr Point3 barycentric(const Point3& a, const Point3& b, const Point3& c, 
 // one midpoint), and exact in a coordinate they share.
 constexpr Point3 midpoint(const Point3& a, const Point3& b) {
   return {0.5 * (a.x + b.x), 0.5 * (a.y + b.y), 0.5 * (a.z + b.z)};
+}
+
+// sin and cos of an angle in degrees, exact at multiples of 90° (a rotation by 90° maps axes onto
+// axes, and a wall tilted by 90° stands exactly upright, with no 6e-17 residues).
+inline std::pair<double, double> sincos_degrees(double deg) {
+  double r = std::fmod(deg, 360.0);
+  if (r < 0) r += 360.0;
+  if (r == 0) return {0, 1};
+  if (r == 90) return {1, 0};
+  if (r == 180) return {0, -1};
+  if (r == 270) return {-1, 0};
+  constexpr double kRadiansPerDegree = 3.14159265358979323846 / 180;
+  return {std::sin(r * kRadiansPerDegree), std::cos(r * kRadiansPerDegree)};
 }
 
 struct Triangle {

@@ -19,18 +19,6 @@ namespace {
 
 // ---- geometry helpers -------------------------------------------------------------------------
 
-// sin and cos of an angle in degrees, exact at multiples of 90° (so that "rotate_deg": [90, 0, 0]
-// maps axes onto axes without 6e-17 residues).
-std::pair<double, double> sincos_deg(double deg) {
-  double r = std::fmod(deg, 360.0);
-  if (r < 0) r += 360.0;
-  if (r == 0) return {0, 1};
-  if (r == 90) return {1, 0};
-  if (r == 180) return {0, -1};
-  if (r == 270) return {-1, 0};
-  return {std::sin(r * kDegree), std::cos(r * kDegree)};
-}
-
 struct Transform {
   Vector3 scale{1, 1, 1};
   Vector3 rotate_deg{0, 0, 0};
@@ -39,11 +27,11 @@ struct Transform {
   // p' = Rz Ry Rx (s ⊙ p) + t: scale, then rotate about x, y, z in that order, then translate.
   Point3 apply(const Point3& p) const {
     Vector3 v{p.x * scale.x, p.y * scale.y, p.z * scale.z};
-    const auto [sx, cx] = sincos_deg(rotate_deg.x);
+    const auto [sx, cx] = sincos_degrees(rotate_deg.x);
     v = {v.x, cx * v.y - sx * v.z, sx * v.y + cx * v.z};
-    const auto [sy, cy] = sincos_deg(rotate_deg.y);
+    const auto [sy, cy] = sincos_degrees(rotate_deg.y);
     v = {cy * v.x + sy * v.z, v.y, -sy * v.x + cy * v.z};
-    const auto [sz, cz] = sincos_deg(rotate_deg.z);
+    const auto [sz, cz] = sincos_degrees(rotate_deg.z);
     v = {cz * v.x - sz * v.y, sz * v.x + cz * v.y, v.z};
     return to_point(v + translate);
   }
