@@ -12,6 +12,7 @@
 
 #include <memory>
 #include <span>
+#include <string_view>
 #include <vector>
 
 #include "mesh/geometry.h"
@@ -42,6 +43,9 @@ class LightModel {
   // scene they fall on; positive for every source whose emitted flux is known (the energy balance
   // counts what such a source delivers to no patch as escaped).
   virtual double flux_factor() const = 0;
+
+  // What the source is, as output.per_source names a light ("point", "spot", "ambient", ...).
+  virtual std::string_view kind() const = 0;
 };
 
 // What a light may ask of the scene it lights, beyond rays: the sources stage fills it once per solve,

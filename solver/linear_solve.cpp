@@ -57,9 +57,11 @@ __attribute__((target_clones("avx2", "default"))) void gather_row(const double* 
   }
 }
 
-void apply_dense(const std::vector<double>& F, std::size_t n, const std::vector<RadiositySystem*>& batch,
-                 const std::vector<const double*>& V, const std::vector<double*>& Y) {
-  const std::size_t K = batch.size();
+}  // namespace
+
+void multiply_dense(const std::vector<double>& F, std::size_t n, const std::vector<const double*>& V,
+                    const std::vector<double*>& FV) {
+  const std::size_t K = V.size();
   // The K vectors interleaved (VT[j·K + k] = V[k][j]), so that each nonzero F_ij updates K
   // contiguous accumulators: one vectorised loop per entry instead of K scattered loads.
   // (Thread-local to the caller; the workers below reach it through the pointer.)
@@ -92,7 +94,19 @@ void apply_dense(const std::vector<double>& F, std::size_t n, const std::vector<
       }
     }
     for (std::size_t i = range.begin(); i != range.end(); ++i)
-      for (std::size_t k = 0; k < K; ++k) Y[k][i] = V[k][i] - batch[k]->rho[i] * acc[(i - range.begin()) * K + k];
+      for (std::size_t k = 0; k < K; ++k) FV[k][i] = acc[(i - range.begin()) * K + k];
+  });
+}
+
+namespace {
+
+// Y[k] = V[k] − ρ_k ⊙ (F V[k]).
+void apply_dense(const std::vector<double>& F, std::size_t n, const std::vector<RadiositySystem*>& batch,
+                 const std::vector<const double*>& V, const std::vector<double*>& Y) {
+  multiply_dense(F, n, V, Y);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024), [&](const auto& range) {
+    for (std::size_t k = 0; k < batch.size(); ++k)
+      for (std::size_t i = range.begin(); i != range.end(); ++i) Y[k][i] = V[k][i] - batch[k]->rho[i] * Y[k][i];
   });
 }
 

@@ -61,6 +61,11 @@ struct RadiositySystem {
 void solve_radiosity_systems(const std::vector<double>& F, std::size_t n, std::vector<RadiositySystem>& systems,
                              double tolerance, int max_iterations, const std::function<bool()>& cancelled);
 
+// FV[k] = F V[k] for every vector of a batch (n-vectors; F: n×n row-major). Each FV[k][i] sums
+// F_ij V[k][j] over j in order from 0, skipping the zeros of F, as the plain loop rounds.
+void multiply_dense(const std::vector<double>& F, std::size_t n, const std::vector<const double*>& V,
+                    const std::vector<double*>& FV);
+
 // Matrix-free form, for operators that are never stored as a matrix (the hierarchical solver's
 // gather / push–pull, solver/hierarchical.h): apply_F(V, FV) sets FV[k] = F V[k] for every vector
 // of one lockstep batch (n-vectors; all systems, or as many as 256 MB of Krylov bases allow). The

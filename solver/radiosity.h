@@ -90,9 +90,20 @@ struct Solution {
   std::size_t wavelengths() const { return grid.size(); }
 };
 
+// The stages of a solve, in the order they begin (SolveControl::stage); the refine–solve rounds of
+// the hierarchical method go from Links to Solve and back.
+//   Meshing: the scene prepared and meshed (contacts, merges, patches or element trees)
+//   Visibility: the visibility scene and the patches' hemispheres
+//   Links: form factors (dense) or the links' refinement (hierarchical)
+//   Solve: the linear systems and the outputs
+//   Probes: the probe points
+enum class SolveStage { Meshing, Visibility, Links, Solve, Probes };
+const char* stage_name(SolveStage stage);  // "meshing", "visibility", "links", "solve", "probes"
+
 // Progress in [0, 1] and cooperative cancellation (checked between work items).
 struct SolveControl {
   std::function<void(double)> progress;
+  std::function<void(SolveStage)> stage;  // called as each stage begins (may be empty)
   const std::atomic<bool>* cancel = nullptr;
   std::size_t max_patches = 0;  // a service's limit on the patch count (0: only the solver's own);
                                 // exceeding it throws SolveError, before the form factors

@@ -193,6 +193,21 @@ TEST(Radiosity, CancellationIsHonoured) {
   EXPECT_THROW(solve(b.scene(), control), SolveCancelled);
 }
 
+TEST(Radiosity, StagesAreAnnouncedInOrder) {
+  // SolveControl::stage names each stage as it begins: the dense method forms its factors in one
+  // round, solves, and the pipeline then writes the outputs (solve) and the probes.
+  SceneBuilder b;
+  const int m = b.material("wall", 0.5);
+  b.surface("room", m, box({0, 0, 0}, {1, 1, 1}, true), 1.0);
+  b.probe("centre", {0.5, 0.5, 0.5}, {0, 0, 1});
+  b.max_patch_area(0.05);
+  std::vector<std::string> stages;
+  SolveControl control;
+  control.stage = [&](SolveStage s) { stages.push_back(stage_name(s)); };
+  solve(b.scene(), control);
+  EXPECT_EQ(stages, (std::vector<std::string>{"meshing", "visibility", "links", "solve", "links", "solve", "probes"}));
+}
+
 }  // namespace
 }  // namespace lambert
 

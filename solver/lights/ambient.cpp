@@ -13,6 +13,7 @@ class AmbientLightModel final : public LightModel {
   double point_factor(const Point3&, const Vector3&, const Visibility&) const override { return 1; }
   double patch_factor(const Triangle&, const Visibility&) const override { return 1; }
   double flux_factor() const override { return 0; }
+  std::string_view kind() const override { return "ambient"; }
 
  private:
   AmbientLight light_;

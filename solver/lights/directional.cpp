@@ -33,6 +33,7 @@ class DirectionalLightModel final : public LightModel {
   }
 
   double flux_factor() const override { return 0; }
+  std::string_view kind() const override { return "directional"; }
 
  private:
   // A segment towards the light long enough to leave the scene (Embree works re-centred).

@@ -118,6 +118,7 @@ class PhongEmitterModel final : public LightModel {
   }
 
   double flux_factor() const override { return area_; }
+  std::string_view kind() const override { return "phong"; }
 
  private:
   double normalisation() const { return (lobe_.exponent + 1) / (2 * kPi); }

@@ -66,6 +66,15 @@ class PointLikeLight : public LightModel {
   double unshadowed_factor(const Point3& p, const Vector3& n) const final;
   double point_factor(const Point3& p, const Vector3& n, const Visibility& vis) const final;
   double patch_factor(const Triangle& t, const Visibility& vis) const final;
+  std::string_view kind() const final {
+    switch (light_.kind) {
+      case PointLight::Kind::Point: return "point";
+      case PointLight::Kind::Spot: return "spot";
+      case PointLight::Kind::Warn: return "warn";
+      case PointLight::Kind::Goniometric: break;
+    }
+    return "goniometric";
+  }
 
  protected:
   PointLikeLight(const PointLight& light, const ConeLobe& lobe) : light_(light), lobe_(lobe) {}

@@ -54,6 +54,7 @@ class SkyLightModel final : public LightModel {
   double point_factor(const Point3& p, const Vector3& n, const Visibility&) const override { return combine(dome_.at(p, n)); }
   double patch_factor(const Triangle& t, const Visibility&) const override { return combine(dome_.average(t)); }
   double flux_factor() const override { return 0; }
+  std::string_view kind() const override { return "sky"; }
 
  private:
   double combine(const SkyFactors& f) const { return f.sky + ground_weight_ * f.ground; }

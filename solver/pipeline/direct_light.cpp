@@ -3,20 +3,9 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
-#include <variant>
 
 namespace lambert {
 namespace {
-
-std::string light_name(const Light& light) {
-  static constexpr const char* kLightNames[] = {"ambient", "directional", "point-like"};
-  if (const auto* pl = std::get_if<PointLight>(&light))
-    return pl->kind == PointLight::Kind::Point  ? "point"
-           : pl->kind == PointLight::Kind::Spot ? "spot"
-           : pl->kind == PointLight::Kind::Warn ? "warn"
-                                                : "goniometric";
-  return kLightNames[light.index()];
-}
 
 // output.per_source: a term per light, then per emitting surface; each source's term.
 void make_terms(const Scene& scene, const std::vector<Patch>& patches, std::span<const LobedPiece> lobed,
@@ -26,7 +15,7 @@ void make_terms(const Scene& scene, const std::vector<Patch>& patches, std::span
   if (!scene.output.per_source) return;
   for (std::size_t l = 0; l < scene.lights.size(); ++l) {
     d.terms.push_back({l < scene.light_pointers.size() ? scene.light_pointers[l] : "/lights/" + std::to_string(l),
-                       light_name(scene.lights[l]), {}, std::vector<double>(N * W, 0.0)});
+                       std::string(d.sources[l]->kind()), {}, std::vector<double>(N * W, 0.0)});
     d.term_of_source[l] = static_cast<int>(l);
   }
   std::vector<int> term_of_surface(scene.surfaces.size(), -1);

@@ -1,0 +1,89 @@
+#include "solver/dense/point_gather.h"
+
+#include <algorithm>
+#include <utility>
+
+#include "solver/form_factor.h"
+#include "solver/solids.h"
+#include "solver/visible_fraction.h"
+
+namespace lambert {
+namespace {
+
+constexpr int kProbeRays = 3 + 16;  // the corners and the interior samples
+
+// The candidates' unoccluded factors (patch, factor > 0) replaced by the visible ones.
+void visible_point_triangle_factors(const Point3& p, const Vector3& n, const std::vector<Patch>& patches,
+                                    std::vector<std::pair<std::size_t, double>>& candidates, const Visibility& vis,
+                                    const OccluderPlanes& planes, const std::vector<OccluderPlanes::Sides>& sides,
+                                    const ExactVisibility& exact) {
+  thread_local std::vector<Segment> rays;
+  thread_local std::vector<std::uint8_t> visible;
+  thread_local std::vector<std::size_t> traced;  // candidates whose rays are in the stream
+  const Point3 from = vis.lift(p, n);
+  const Point3 point[1] = {p};
+  const OccluderPlanes::Sides point_sides = planes.sides(point);
+  rays.clear(), traced.clear();
+  for (std::size_t c = 0; c < candidates.size(); ++c) {
+    const std::size_t j = candidates[c].first;
+    if (!sides.empty() && planes.clear(point_sides, sides[j])) continue;  // wholly visible
+    traced.push_back(c);
+    const Patch& patch = patches[j];
+    const Triangle& t = patch.triangle;
+    for (int v = 0; v < 3; ++v) {
+      const Point3 corner = barycentric(t.v[v], t.v[(v + 1) % 3], t.v[(v + 2) % 3], 0.998, 0.001, 0.001);
+      rays.push_back({from, vis.lift(corner, patch.normal)});
+    }
+    for (int k = 0; k < 16; ++k) rays.push_back({from, vis.lift(visibility_sample(t, k), patch.normal)});
+  }
+  visible.resize(rays.size());
+  vis.visible(rays, visible);
+  for (std::size_t r = 0; r < traced.size(); ++r) {
+    const std::size_t c = traced[r];
+    const Patch& patch = patches[candidates[c].first];
+    const int seen =
+        static_cast<int>(std::count(visible.begin() + r * kProbeRays, visible.begin() + (r + 1) * kProbeRays, 1));
+    double& factor = candidates[c].second;
+    if (seen == kProbeRays) continue;
+    factor = seen == 0 ? 0.0 : exact.visible_factor(p, n, patch.triangle);
+  }
+}
+
+std::vector<Triangle> input_triangles(const Scene& scene) {
+  std::vector<Triangle> out;
+  for (const Surface& s : scene.surfaces)
+    for (std::size_t t = 0; t < s.mesh.triangles.size(); ++t) out.push_back(s.mesh.triangle(t));
+  return out;
+}
+
+}  // namespace
+
+DensePointGather::DensePointGather(const Scene& scene, const std::vector<Patch>& patches, const Visibility& vis,
+                                   const OccluderPlanes& planes, const std::vector<OccluderPlanes::Sides>& sides,
+                                   std::vector<const double*> B)
+    : patches_(patches), vis_(vis), planes_(planes), sides_(sides), B_(std::move(B)) {
+  const OutwardSolids solids = outward_solids(scene.surfaces);
+  exact_ = std::make_unique<ExactVisibility>(input_triangles(scene), solids.solid, solids.convex, solids.cap);
+  radiates_.assign(patches.size(), 0);
+  for (std::size_t j = 0; j < patches.size(); ++j)
+    for (const double* b : B_) radiates_[j] = radiates_[j] || b[j] != 0;
+}
+
+void DensePointGather::gather_at_point(const Receiver& receiver, double* E) const {
+  const Point3& p = receiver.point;
+  const Vector3& n = receiver.normal;
+  thread_local std::vector<std::pair<std::size_t, double>> seen;  // (patch, visible point-to-patch factor)
+  seen.clear();
+  for (std::size_t j = 0; j < patches_.size(); ++j) {
+    if (!radiates_[j]) continue;
+    const double f = point_triangle_factor(p, n, patches_[j].triangle);
+    if (f > 0) seen.emplace_back(j, f);
+  }
+  visible_point_triangle_factors(p, n, patches_, seen, vis_, planes_, sides_, *exact_);
+  const std::size_t K = B_.size();
+  for (std::size_t k = 0; k < K; ++k) E[k] = 0;
+  for (const auto& [j, fv] : seen)
+    for (std::size_t k = 0; k < K; ++k) E[k] += fv * B_[k][j];
+}
+
+}  // namespace lambert

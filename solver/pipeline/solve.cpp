@@ -1,0 +1,99 @@
+// solve(): the scene prepared, the method chosen, and the pipeline run with the method's operator.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "solver/dense/dense_operator.h"
+#include "solver/dense/discretise.h"
+#include "solver/hierarchical.h"
+#include "solver/pipeline/pipeline.h"
+#include "solver/pipeline/prepare.h"
+#include "solver/radiosity.h"
+
+namespace lambert {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+constexpr int kAdaptiveRounds = 2;
+
+void check_cancel(const SolveControl& control) {
+  if (control.cancel && control.cancel->load(std::memory_order_relaxed)) throw SolveCancelled();
+}
+
+// The dense method on `premeshed` patches, or on the scene's own meshing.
+Solution solve_dense(const Scene& scene, const SolveControl& control, const std::vector<Patch>* premeshed) {
+  const auto t_start = Clock::now();
+  SolveStats stats;
+  const double max_area = scene.meshing.max_patch_area_m2.value_or(default_max_patch_area(scene));
+  stats.max_patch_area_m2 = max_area;
+  std::vector<Patch> patches = premeshed ? *premeshed : dense_patches(scene, max_area, control, stats);
+  check_patch_count(static_cast<double>(patches.size()), false, kMaxDensePatches, control);
+  stats.time_meshing_s = seconds_since(t_start);
+  check_cancel(control);
+  enter_stage(control, SolveStage::Visibility);
+  DenseOperator op(scene, std::move(patches), stats);
+  return run_pipeline(scene, op, stats, control, t_start);
+}
+
+// Adaptive meshing (meshing.adaptive): solve, split the patches where the irradiance jumps between
+// neighbours, solve again (at most kAdaptiveRounds times). Each pass reports progress in its share.
+Solution solve_dense_adaptive(const Scene& scene, const SolveControl& control) {
+  const auto t_start = Clock::now();
+  auto pass_control = [&](int pass) {
+    SolveControl c = control;
+    if (control.progress)
+      c.progress = [&control, pass](double f) { control.progress((pass + f) / (kAdaptiveRounds + 1)); };
+    return c;
+  };
+  Solution sol = solve_dense(scene, pass_control(0), nullptr);
+  for (int round = 1; round <= kAdaptiveRounds; ++round) {
+    std::vector<Patch> refined = refine_where_irradiance_varies(sol);
+    if (refined.size() == sol.patches.size()) break;
+    const std::size_t direct_refinement = sol.stats.direct_refinement_patches;  // of the first pass
+    sol = solve_dense(scene, pass_control(round), &refined);
+    sol.stats.adaptive_rounds = round;
+    sol.stats.direct_refinement_patches = direct_refinement;
+  }
+  sol.stats.time_total_s = seconds_since(t_start);
+  if (control.progress) control.progress(1.0);
+  return sol;
+}
+
+Solution solve_method(const Scene& scene, const SolveControl& control) {
+  // Method selection (scene.h SolverMethod): Auto estimates the meshed patch count from the areas.
+  SolverMethod method = scene.solver.method;
+  if (method == SolverMethod::Auto) {
+    const double max_area = scene.meshing.max_patch_area_m2.value_or(default_max_patch_area(scene));
+    double patches = 0;
+    for (const Surface& s : scene.surfaces)
+      for (std::size_t t = 0; t < s.mesh.triangles.size(); ++t)
+        patches += std::max(1.0, std::ceil(s.mesh.triangle(t).area() / max_area));
+    method = patches <= kDenseAutoPatches || scene.output.per_source ? SolverMethod::Dense : SolverMethod::Hierarchical;
+  }
+  if (method == SolverMethod::Hierarchical) {
+    if (scene.output.per_source) throw SolveError("output.per_source is not available with solver.method \"hierarchical\"");
+    Solution sol = solve_hierarchical(scene, control);
+    if (scene.meshing.adaptive)
+      sol.warnings.push_back("meshing.adaptive applies to the dense solver only; the hierarchical method "
+                             "refines its own links");
+    sol.warnings.push_back("solved with the experimental hierarchical method: expect errors of a few per cent "
+                           "(closed rows were corrected by up to " +
+                           std::to_string(sol.stats.max_closure_error) + "); see stats");
+    return sol;
+  }
+  return scene.meshing.adaptive ? solve_dense_adaptive(scene, control) : solve_dense(scene, control, nullptr);
+}
+
+}  // namespace
+
+Solution solve(const Scene& scene, const SolveControl& control) {
+  enter_stage(control, SolveStage::Meshing);
+  const PreparedScene prepared(scene, control);
+  Solution sol = solve_method(prepared.scene(), control);
+  prepared.finish(sol);
+  return sol;
+}
+
+}  // namespace lambert
