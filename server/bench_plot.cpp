@@ -12,11 +12,11 @@ namespace {
 
 constexpr int kWidth = 1200, kHeight = 720;
 constexpr int kLeft = 100, kTop = 80, kBottom = kHeight - 80;  // the axes box, right edge from the legend
-constexpr int kScale = 2;                                       // text: 10 × 14 pixel glyphs
+constexpr double kFont_px = 15, kTitleFont_px = 22;
 constexpr int kLegendGap = 30, kRightMargin = 20;
 constexpr int kLegendSample = 36;          // the line-and-marker sample in front of each legend name
 constexpr std::size_t kMaxNameChars = 32;  // longer names are cut so the axes keep most of the width
-constexpr int kLineThickness = 2;
+constexpr double kLineThickness = 2;
 
 constexpr Rgb kBlack{0, 0, 0}, kGrid{225, 225, 225}, kNote{90, 90, 90}, kWhite{255, 255, 255};
 
@@ -29,12 +29,25 @@ std::string legend_name(const std::string& name) {
 const char* const kFloorNote[] = {"errors below 1e-16", "shown at 1e-16"};
 static_assert(kErrorFloor == 1e-16, "the floor note states the floor");
 
-int legend_width(const std::vector<PlotSeries>& series) {
-  int text = 0;
-  for (const char* line : kFloorNote) text = std::max(text, text_width(line, kScale));
-  for (const PlotSeries& s : series) text = std::max(text, kLegendSample + 8 + text_width(legend_name(s.name), kScale));
-  return text + 16;  // 8 pixels of padding inside the legend's border on each side
+TextStyle label(HAlign h = HAlign::Left, VAlign v = VAlign::Middle, Rgb colour = kBlack) {
+  TextStyle t;
+  t.size_px = kFont_px;
+  t.colour = colour;
+  t.h = h;
+  t.v = v;
+  return t;
 }
+
+int legend_width(const std::vector<PlotSeries>& series) {
+  double text = 0;
+  for (const char* line : kFloorNote) text = std::max(text, text_width(line, label()));
+  for (const PlotSeries& s : series) text = std::max(text, kLegendSample + 8 + text_width(legend_name(s.name), label()));
+  return static_cast<int>(std::ceil(text)) + 16;  // 8 pixels of padding inside the legend's border on each side
+}
+
+// The centre of pixel p: lines and markers drawn there cover the pixel itself.
+Point2 centre(Pixel p) { return {p.x + 0.5, p.y + 0.5}; }
+Point2 centre(double x, double y) { return {std::round(x) + 0.5, std::round(y) + 0.5}; }
 
 // Whole decades strictly below lo and above hi: a value on a decade (the floor, a lone value, all-equal
 // values) gets a decade of room rather than a marker cut in half by the box edge.
@@ -59,80 +72,78 @@ Marker series_marker(std::size_t index) {
   return kShapes[(index + index / 8) % 4];
 }
 
-// Radii that give the four shapes about the same area (80-120 pixels), so none looks more important.
-int marker_radius(Marker shape) {
-  constexpr int kRadius[] = {5, 4, 6, 6};  // in the order of enum Marker: circle, square, diamond, triangle
+// Circumscribed radii that give the four shapes about the same area (about 80 pixels), so none looks
+// more important: π r², 2 r², 2 r², (3√3/4) r².
+double marker_radius(Marker shape) {
+  constexpr double kRadius[] = {5, 6.3, 6.3, 7.8};  // in the order of enum Marker: circle, square, diamond, triangle
   return kRadius[static_cast<int>(shape)];
 }
 
-void draw_marker(Image& img, Pixel at, std::size_t index) {
+void draw_marker(Canvas& c, Pixel at, std::size_t index) {
   const Marker shape = series_marker(index);
-  img.marker(at.x, at.y, marker_radius(shape), shape, series_colour(index));
+  c.marker(centre(at), marker_radius(shape), shape, series_colour(index));
 }
 
-void draw_axes(Image& img, const PlotFrame& f) {
+// A decade's tick label, plain or as a power of ten.
+void decade_text(Canvas& c, Point2 at, int k, const TextStyle& style) {
+  if (const auto plain = plain_decade_label(k))
+    c.text(at, *plain, style);
+  else
+    c.power_of_ten(at, k, style);
+}
+
+void draw_axes(Canvas& c, const PlotFrame& f) {
   const int left = f.x.pixel_lo, right = f.x.pixel_hi, bottom = f.y.pixel_lo, top = f.y.pixel_hi;
   // Minor ticks at 2..9 × 10^k, only when a decade is wide enough for them not to blur into a bar.
   const bool minor_x = (right - left) / (f.x.hi_decade - f.x.lo_decade) >= 40;
   const bool minor_y = (bottom - top) / (f.y.hi_decade - f.y.lo_decade) >= 40;
   const int step_x = label_step(f.x, 70), step_y = label_step(f.y, 24);
   for (int k = f.x.lo_decade; k <= f.x.hi_decade; ++k) {
-    const int x = static_cast<int>(std::lround(axis_pixel(f.x, std::pow(10.0, k))));
-    img.line(x, top, x, bottom, kGrid);
-    img.line(x, bottom, x, bottom + 6, kBlack);
-    if (labelled(k, step_x)) {
-      const std::string label = decade_label(k);
-      img.text(x - text_width(label, kScale) / 2, bottom + 12, label, kBlack, kScale);
-    }
+    const double x = std::round(axis_pixel(f.x, std::pow(10.0, k))) + 0.5;
+    c.line({x, double(top)}, {x, double(bottom)}, kGrid);
+    c.line({x, double(bottom)}, {x, bottom + 6.0}, kBlack);
+    if (labelled(k, step_x)) decade_text(c, {x, bottom + 10.0}, k, label(HAlign::Centre, VAlign::Top));
     for (int m = 2; minor_x && m <= 9 && k < f.x.hi_decade; ++m) {
-      const int xm = static_cast<int>(std::lround(axis_pixel(f.x, m * std::pow(10.0, k))));
-      img.line(xm, bottom, xm, bottom + 3, kBlack);
+      const double xm = std::round(axis_pixel(f.x, m * std::pow(10.0, k))) + 0.5;
+      c.line({xm, double(bottom)}, {xm, bottom + 3.0}, kBlack);
     }
   }
   for (int k = f.y.lo_decade; k <= f.y.hi_decade; ++k) {
-    const int y = static_cast<int>(std::lround(axis_pixel(f.y, std::pow(10.0, k))));
-    img.line(left, y, right, y, kGrid);
-    img.line(left - 6, y, left, y, kBlack);
-    if (labelled(k, step_y)) {
-      const std::string label = decade_label(k);
-      img.text(left - 12 - text_width(label, kScale), y - kGlyphHeight * kScale / 2, label, kBlack, kScale);
-    }
+    const double y = std::round(axis_pixel(f.y, std::pow(10.0, k))) + 0.5;
+    c.line({double(left), y}, {double(right), y}, kGrid);
+    c.line({left - 6.0, y}, {double(left), y}, kBlack);
+    if (labelled(k, step_y)) decade_text(c, {left - 10.0, y}, k, label(HAlign::Right, VAlign::Middle));
     for (int m = 2; minor_y && m <= 9 && k < f.y.hi_decade; ++m) {
-      const int ym = static_cast<int>(std::lround(axis_pixel(f.y, m * std::pow(10.0, k))));
-      img.line(left - 3, ym, left, ym, kBlack);
+      const double ym = std::round(axis_pixel(f.y, m * std::pow(10.0, k))) + 0.5;
+      c.line({left - 3.0, ym}, {double(left), ym}, kBlack);
     }
   }
-  img.line(left, top, right, top, kBlack);
-  img.line(left, bottom, right, bottom, kBlack);
-  img.line(left, top, left, bottom, kBlack);
-  img.line(right, top, right, bottom, kBlack);
+  c.stroke_rect(centre(left, top), centre(right, bottom), kBlack);
 
-  img.text(kLeft, 16, "lambert bench: speed against error", kBlack, 3);
-  img.text(left - 60, top - 34, "error vs exact answer", kBlack, kScale);
-  const std::string x_title = "time (s)";
-  img.text((left + right - text_width(x_title, kScale)) / 2, bottom + 44, x_title, kBlack, kScale);
+  TextStyle title = label(HAlign::Left, VAlign::Top);
+  title.size_px = kTitleFont_px;
+  title.weight = Weight::Bold;
+  c.text({double(kLeft), 16}, "lambert bench: speed against error", title);
+  c.text({left - 60.0, top - 24.0}, "error against the exact answer", label(HAlign::Left, VAlign::Baseline));
+  c.text({(left + right) / 2.0, bottom + 40.0}, "time (s)", label(HAlign::Centre, VAlign::Top));
 }
 
-void draw_legend(Image& img, const PlotFrame& f, const std::vector<PlotSeries>& series, bool floored) {
-  const int x0 = f.x.pixel_hi + kLegendGap, row = 26;
+void draw_legend(Canvas& c, const PlotFrame& f, const std::vector<PlotSeries>& series, bool floored) {
+  const double x0 = f.x.pixel_hi + kLegendGap + 0.5, row = 26;
   const int lines = static_cast<int>(series.size()) + (floored ? 3 : 0);  // the note after a blank row
   if (lines == 0) return;
-  const int x1 = kWidth - kRightMargin, y1 = f.y.pixel_hi + 8 + lines * row;
-  img.line(x0, f.y.pixel_hi, x1, f.y.pixel_hi, kBlack);
-  img.line(x0, y1, x1, y1, kBlack);
-  img.line(x0, f.y.pixel_hi, x0, y1, kBlack);
-  img.line(x1, f.y.pixel_hi, x1, y1, kBlack);
-  int y = f.y.pixel_hi + 10;
+  const double x1 = kWidth - kRightMargin + 0.5, top = f.y.pixel_hi + 0.5, y1 = top + 8 + lines * row;
+  c.stroke_rect({x0, top}, {x1, y1}, kBlack);
+  double y = top + 8 + row / 2;
   for (std::size_t i = 0; i < series.size(); ++i, y += row) {
-    const int mid = y + kGlyphHeight * kScale / 2;
-    img.line(x0 + 8, mid, x0 + 8 + kLegendSample, mid, series_colour(i), kLineThickness);
-    draw_marker(img, {x0 + 8 + kLegendSample / 2, mid}, i);
-    img.text(x0 + 16 + kLegendSample, y, legend_name(series[i].name), kBlack, kScale);
+    c.line({x0 + 8, y}, {x0 + 8 + kLegendSample, y}, series_colour(i), kLineThickness);
+    draw_marker(c, {static_cast<int>(x0 + 8 + kLegendSample / 2), static_cast<int>(y)}, i);
+    c.text({x0 + 16 + kLegendSample, y}, legend_name(series[i].name), label());
   }
   if (floored) {
     y += row;
     for (const char* line : kFloorNote) {
-      img.text(x0 + 8, y, line, kNote, kScale);
+      c.text({x0 + 8, y}, line, label(HAlign::Left, VAlign::Middle, kNote));
       y += row;
     }
   }
@@ -179,10 +190,10 @@ PlotFrame plot_frame(const std::vector<PlotSeries>& series) {
   return f;
 }
 
-std::string decade_label(int exponent) {
+std::optional<std::string> plain_decade_label(int exponent) {
   static const char* const kPlain[] = {"0.01", "0.1", "1", "10", "100", "1000"};
   if (exponent >= -2 && exponent <= 3) return kPlain[exponent + 2];
-  return "1e" + std::to_string(exponent);
+  return std::nullopt;
 }
 
 Rgb series_colour(std::size_t index) {
@@ -192,30 +203,31 @@ Rgb series_colour(std::size_t index) {
   return kPalette[index % 8];
 }
 
-void plot_speed_against_error(const std::vector<PlotSeries>& series, const std::string& png_path) {
+Image draw_speed_against_error(const std::vector<PlotSeries>& series) {
   const PlotFrame f = plot_frame(series);
-  Image img(kWidth, kHeight, kWhite);
-  draw_axes(img, f);
+  Canvas c(kWidth, kHeight, kWhite);
+  draw_axes(c, f);
   bool floored = false;
   // Every series' lines first, then every marker, so no line runs across another series' marker.
   for (std::size_t i = 0; i < series.size(); ++i) {
-    const PlotPoint* prev = nullptr;
+    std::vector<Point2> line;
     for (const PlotPoint& p : series[i].points) {
       if (!plottable(p)) continue;
       floored = floored || p.error < kErrorFloor;
-      if (prev != nullptr) {
-        const Pixel a = data_pixel(f, *prev), b = data_pixel(f, p);
-        img.line(a.x, a.y, b.x, b.y, series_colour(i), kLineThickness);
-      }
-      prev = &p;
+      line.push_back(centre(data_pixel(f, p)));
     }
+    c.polyline(line, series_colour(i), kLineThickness);
   }
   for (std::size_t i = 0; i < series.size(); ++i) {
     for (const PlotPoint& p : series[i].points)
-      if (plottable(p)) draw_marker(img, data_pixel(f, p), i);
+      if (plottable(p)) draw_marker(c, data_pixel(f, p), i);
   }
-  draw_legend(img, f, series, floored);
-  img.write_png(png_path);
+  draw_legend(c, f, series, floored);
+  return c.pixels();
+}
+
+void plot_speed_against_error(const std::vector<PlotSeries>& series, const std::string& png_path) {
+  write_png(draw_speed_against_error(series), png_path);
 }
 
 }  // namespace lambert

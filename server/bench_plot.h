@@ -3,10 +3,11 @@
 #pragma once
 
 #include <cstddef>
+#include <optional>
 #include <string>
 #include <vector>
 
-#include "server/png_image.h"
+#include "server/canvas.h"
 
 namespace lambert {
 
@@ -53,13 +54,15 @@ Pixel data_pixel(const PlotFrame& frame, const PlotPoint& p);
 // layout. With no plottable point: 1 ms to 10 s, and 1e-16 to 1.
 PlotFrame plot_frame(const std::vector<PlotSeries>& series);
 
-// Tick label of 10^exponent: plain decimals from 0.01 to 1000 ("0.01", "1", "1000"), else "1e-3".
-std::string decade_label(int exponent);
+// Tick label of 10^exponent in plain decimals from 0.01 to 1000 ("0.01", "1", "1000"); outside that
+// range none: the axis writes the power of ten with a raised exponent (Canvas::power_of_ten).
+std::optional<std::string> plain_decade_label(int exponent);
 
 Rgb series_colour(std::size_t index);
 
-// Writes the plot as a PNG of plot_frame's layout; throws std::runtime_error naming the path when
-// the file cannot be written.
+// The plot drawn in plot_frame's layout.
+Image draw_speed_against_error(const std::vector<PlotSeries>& series);
+// The same written as a PNG; throws std::runtime_error naming the path when it cannot be written.
 void plot_speed_against_error(const std::vector<PlotSeries>& series, const std::string& png_path);
 
 }  // namespace lambert

@@ -102,22 +102,7 @@ Camera default_camera(const std::vector<Triangle>& triangles) {
   return c;
 }
 
-Rgb false_colour_ramp(double t) {
-  static constexpr double stops[6][3] = {{0, 0, 64}, {0, 0, 255}, {0, 255, 255}, {0, 255, 0}, {255, 255, 0}, {255, 0, 0}};
-  t = std::clamp(std::isfinite(t) ? t : 0.0, 0.0, 1.0) * 5;
-  const int k = std::min(4, static_cast<int>(t));
-  const double f = t - k;
-  auto mix = [&](int c) { return static_cast<std::uint8_t>(std::lround(stops[k][c] + f * (stops[k + 1][c] - stops[k][c]))); };
-  return {mix(0), mix(1), mix(2)};
-}
-
-std::array<double, 2> false_colour_range(const std::vector<double>& values) {
-  double hi = 0, lo_positive = std::numeric_limits<double>::infinity();
-  for (double v : values)
-    if (v > 0) hi = std::max(hi, v), lo_positive = std::min(lo_positive, v);
-  if (!(hi > 0)) return {0, 0};
-  return {std::max(hi * 1e-3, lo_positive), hi};
-}
+LegendStyle render_legend_style() { return {}; }
 
 Image render(const RenderPatches& patches, const Camera& camera, const RenderOptions& options) {
   const std::size_t N = patches.triangles.size();
@@ -180,11 +165,7 @@ Image render(const RenderPatches& patches, const Camera& camera, const RenderOpt
   };
   const std::vector<double>& shown = options.false_colour == FalseColour::Luminance ? patches.luminance_cd_m2
                                                                                    : patches.illuminance_lx;
-  const auto [lo, hi] = false_colour_range(shown);
-  auto scale_position = [lo = lo, hi = hi](double v) {
-    if (!(v > 0) || !(hi > 0)) return 0.0;
-    return hi > lo ? std::log(v / lo) / std::log(hi / lo) : 1.0;
-  };
+  const ColourScale scale = colour_scale(shown, options.scale);
 
   // The first front face along the ray, passing through back faces: the patch and the point, or -1.
   auto trace = [&](const Vector3& dir, Point3& point) {
@@ -222,7 +203,7 @@ Image render(const RenderPatches& patches, const Camera& camera, const RenderOpt
               continue;
             }
             if (options.false_colour != FalseColour::None) {
-              const Rgb f = false_colour_ramp(scale_position(shown[hit]));
+              const Rgb f = false_colour_ramp(scale.position(shown[hit]));
               sum[0] += f.r / 255.0, sum[1] += f.g / 255.0, sum[2] += f.b / 255.0;
               continue;
             }
@@ -244,26 +225,13 @@ Image render(const RenderPatches& patches, const Camera& camera, const RenderOpt
       }
   });
 
-  // The false-colour scale bar: the ramp bottom (low) to top (high), five labels on a log scale.
-  if (options.false_colour != FalseColour::None && hi > 0 && camera.width >= 200 && camera.height >= 120) {
-    const char* unit = options.false_colour == FalseColour::Luminance ? " cd/m2" : " lx";
-    const int x0 = camera.width - 110, x1 = x0 + 14, top = 14, bottom = camera.height - 14;
-    image.fill_rect(x0 - 6, top - 8, camera.width - 1, bottom + 8, {0, 0, 0});
-    for (int y = top; y <= bottom; ++y)
-      image.line(x0, y, x1, y, false_colour_ramp(static_cast<double>(bottom - y) / (bottom - top)));
-    for (int k = 0; k <= 4; ++k) {
-      const double value = hi > lo ? lo * std::pow(hi / lo, k / 4.0) : hi;
-      char label[48];
-      if (value >= 100 && value < 1e7)
-        std::snprintf(label, sizeof label, "%.0f%s", value, unit);
-      else
-        std::snprintf(label, sizeof label, "%.3g%s", value, unit);
-      const int y = bottom - (bottom - top) * k / 4;
-      image.line(x1 + 1, y, x1 + 4, y, {255, 255, 255});
-      image.text(x1 + 7, y - kGlyphHeight / 2, label, {255, 255, 255});
-    }
-  }
-  return image;
+  if (options.false_colour == FalseColour::None || camera.width < kLegendMinWidth || camera.height < kLegendMinHeight)
+    return image;
+  const bool luminance = options.false_colour == FalseColour::Luminance;
+  Canvas canvas(image);
+  draw_legend(canvas, scale, legend_title(luminance ? "Luminance" : "Illuminance", luminance ? "cd/m\u00b2" : "lx", options.scale),
+              {camera.width - kLegendMargin, kLegendMargin}, camera.height - 2 * kLegendMargin, render_legend_style());
+  return canvas.pixels();
 }
 
 }  // namespace lambert

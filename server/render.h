@@ -14,7 +14,9 @@
 #include <vector>
 
 #include "mesh/geometry.h"
-#include "server/png_image.h"
+#include "server/colour_scale.h"
+#include "server/image.h"
+#include "server/legend.h"
 
 namespace lambert {
 
@@ -51,6 +53,7 @@ enum class FalseColour { None, Illuminance, Luminance };
 
 struct RenderOptions {
   FalseColour false_colour = FalseColour::None;
+  ScaleKind scale = ScaleKind::Log;  // of the false colours (colour_scale.h)
   // The luminance shown as white (cd/m²); absent: the brightest patch that does not emit (the same
   // white as the result's srgb_encoded).
   std::optional<double> white_cd_m2;
@@ -64,13 +67,14 @@ struct RenderOptions {
 };
 
 // Throws std::invalid_argument when there is nothing to draw (no triangles, or sizes that differ).
+// With false colours, the legend (legend.h) stands at the right edge, kLegendMargin from the top,
+// right and bottom.
 Image render(const RenderPatches& patches, const Camera& camera, const RenderOptions& options);
 
-// The false-colour scale: t in [0, 1] from dark blue through blue, cyan, green and yellow to red.
-Rgb false_colour_ramp(double t);
-
-// The false-colour scale's range: from the largest value down three decades (log scale), or from the
-// smallest positive value if that is higher. {0, 0} when no value is positive.
-std::array<double, 2> false_colour_range(const std::vector<double>& values);
+// Where render() puts the false-colour legend on a picture of this size (drawn when the picture is
+// at least kLegendMinWidth × kLegendMinHeight): the panel's top-right corner and height.
+inline constexpr int kLegendMinWidth = 240, kLegendMinHeight = 120;
+inline constexpr double kLegendMargin = 8;
+LegendStyle render_legend_style();
 
 }  // namespace lambert

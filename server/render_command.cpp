@@ -15,6 +15,8 @@
 #include "server/cli_parser.h"
 #include "server/cli_progress.h"
 #include "server/export/result_model.h"
+#include "server/canvas.h"
+#include "server/grid_map.h"
 #include "server/render.h"
 #include "server/scene_codec.h"
 #include "solver/form_factor.h"
@@ -32,6 +34,7 @@ using json = nlohmann::json;
 struct RenderArgs {
   std::string input, output, camera_text;
   std::string false_colour = "none";
+  std::string scale = "log", probe_grid;
   std::optional<double> white_cd_m2;
   bool smooth = false;
 };
@@ -146,58 +149,126 @@ RenderPatches result_render_patches(const std::string& result_json, std::optiona
 
 namespace {
 
-int run_render(const RenderArgs& args) {
-  const std::string& input = args.input;
-  const std::string& output = args.output;
-  std::string text;
-  if (!read_text_file(input, text)) {
-    std::cerr << "lambert render: cannot read " << input << "\n";
-    return 2;
-  }
-  json doc = json::parse(text, nullptr, false);
-  if (doc.is_discarded() || !doc.is_object()) {
-    std::cerr << "lambert render: " << input << " is not a JSON object (a scene or a result)\n";
-    return 2;
-  }
-  RenderOptions options;
-  options.false_colour = args.false_colour == "illuminance" ? FalseColour::Illuminance
-                         : args.false_colour == "luminance" ? FalseColour::Luminance
-                                                            : FalseColour::None;
-  options.white_cd_m2 = args.white_cd_m2;
-  options.smooth = args.smooth;
+// What the input gives to draw. The scene and solution are kept for the specular shading, which
+// refers to them.
+struct RenderInput {
   RenderPatches patches;
-  double unit_m = 1;  // metres per camera unit (the scene's unit)
-  // Kept alive for the specular shading, which refers to them.
+  double unit_m = 1;  // metres per camera unit: a scene's unit; a result's patches are in scene units
+  std::optional<double> white_cd_m2;
+  std::vector<GridValues> grids;
   std::optional<Scene> scene;
   std::optional<Solution> solution;
+};
+
+std::string unit_name(double unit_m) {
+  return unit_m == 1 ? "m" : unit_m == 0.01 ? "cm" : unit_m == 0.001 ? "mm" : "scene units";
+}
+
+// A grid probe's values with its cell sides, from its points (scene units).
+GridValues grid_values(const std::string& name, int nu, int nv, const std::vector<Point3>& points,
+                       const std::vector<double>& lux, double unit_m) {
+  GridValues g{name, nu, nv, 1, 1, unit_name(unit_m), lux};
+  const double du = nu > 1 ? distance(points[1], points[0]) : 0;
+  const double dv = nv > 1 ? distance(points[static_cast<std::size_t>(nu)], points[0]) : 0;
+  g.cell_u = du > 0 ? du : dv > 0 ? dv : 1;
+  g.cell_v = dv > 0 ? dv : g.cell_u;
+  return g;
+}
+
+void read_result_input(const std::string& text, RenderInput& in) {
+  const ResultModel model = read_result(text);
+  in.patches = patches_of(model);
+  in.white_cd_m2 = model.white_cd_m2;
+  for (const ResultProbe& p : model.probes)
+    if (p.is_grid) in.grids.push_back(grid_values(p.name, p.nu, p.nv, p.points, p.illuminance_lx, model.unit_m));
+}
+
+// Solves the scene; false (after printing why) when the scene is invalid.
+bool solve_scene_input(const std::string& path, const std::string& text, RenderInput& in) {
+  in.scene = decode_scene_file(path, text);
+  if (!in.scene) return false;
+  in.unit_m = in.scene->unit_m;
+  SolveControl control;
+  show_progress_on_terminal(control);
+  in.solution = solve(*in.scene, control);
+  const Report report = make_report(*in.scene, *in.solution);
+  in.patches = render_patches(*in.scene, *in.solution, report);
+  for (std::size_t k = 0; k < in.scene->probes.size(); ++k) {
+    const Probe& p = in.scene->probes[k];
+    if (!p.is_grid) continue;
+    std::vector<Point3> points;
+    for (const Point3& q : p.points) points.push_back({q.x / in.unit_m, q.y / in.unit_m, q.z / in.unit_m});
+    in.grids.push_back(grid_values(p.name, p.nu, p.nv, points, report.probes[k].illuminance_lx, in.unit_m));
+  }
+  return true;
+}
+
+// Reads (and for a scene, solves) the input; returns the exit status of a failure, printed.
+std::optional<int> load_input(const RenderArgs& args, RenderInput& in) {
+  std::string text;
+  if (!read_text_file(args.input, text)) {
+    std::cerr << "lambert render: cannot read " << args.input << "\n";
+    return 2;
+  }
+  const json doc = json::parse(text, nullptr, false);
+  if (doc.is_discarded() || !doc.is_object()) {
+    std::cerr << "lambert render: " << args.input << " is not a JSON object (a scene or a result)\n";
+    return 2;
+  }
   try {
-    if (doc.contains("patches")) {
-      const ResultModel model = read_result(text);
-      patches = patches_of(model);
-      if (!options.white_cd_m2) options.white_cd_m2 = model.white_cd_m2;
-    } else {
-      scene = decode_scene_file(input, text);
-      if (!scene) return 2;
-      unit_m = scene->unit_m;
-      SolveControl control;
-      show_progress_on_terminal(control);
-      solution = solve(*scene, control);
-      patches = render_patches(*scene, *solution, make_report(*scene, *solution));
-      options.view_dependent = specular_shading(*scene, *solution);
-    }
+    if (doc.contains("patches"))
+      read_result_input(text, in);
+    else if (!solve_scene_input(args.input, text, in))
+      return 2;
   } catch (const SolveError& e) {
     std::cerr << "lambert render: " << e.what() << "\n";
     return 1;
   } catch (const std::exception& e) {
-    std::cerr << "lambert render: " << input << ": " << e.what() << "\n";
+    std::cerr << "lambert render: " << args.input << ": " << e.what() << "\n";
     return 2;
   }
-  if (patches.triangles.empty()) {
-    std::cerr << "lambert render: " << input << " has no patches to draw\n";
+  if (in.patches.triangles.empty()) {
+    std::cerr << "lambert render: " << args.input << " has no patches to draw\n";
     return 1;
   }
+  return std::nullopt;
+}
+
+int write_image(const Image& image, const std::string& output, const std::string& what) {
+  try {
+    write_png(image, output);
+  } catch (const std::exception& e) {
+    std::cerr << "lambert render: " << e.what() << "\n";
+    return 1;
+  }
+  std::cout << "wrote " << output << " (" << image.width << "x" << image.height << ", " << what << ")\n";
+  return 0;
+}
+
+int draw_grid(const RenderArgs& args, const RenderInput& in) {
+  std::string names;
+  for (const GridValues& g : in.grids) {
+    if (g.name == args.probe_grid)
+      return write_image(draw_grid_map(g, args.scale == "linear" ? ScaleKind::Linear : ScaleKind::Log), args.output,
+                         "probe grid " + g.name);
+    names += (names.empty() ? "" : ", ") + g.name;
+  }
+  return render_usage_error("--probe-grid: " + args.input + " has no probe grid '" + args.probe_grid + "'" +
+                            (names.empty() ? " (it has none)" : " (its grids: " + names + ")"));
+}
+
+int draw_view(const RenderArgs& args, RenderInput& in) {
+  RenderOptions options;
+  options.false_colour = args.false_colour == "illuminance" ? FalseColour::Illuminance
+                         : args.false_colour == "luminance" ? FalseColour::Luminance
+                                                            : FalseColour::None;
+  options.scale = args.scale == "linear" ? ScaleKind::Linear : ScaleKind::Log;
+  options.white_cd_m2 = args.white_cd_m2 ? args.white_cd_m2 : in.white_cd_m2;
+  options.smooth = args.smooth;
+  if (in.scene) options.view_dependent = specular_shading(*in.scene, *in.solution);
   // The camera is given in scene units; the patches of a solved scene are in metres.
-  Camera camera = default_camera(patches.triangles);
+  const double unit_m = in.unit_m;
+  Camera camera = default_camera(in.patches.triangles);
   camera.eye = {camera.eye.x / unit_m, camera.eye.y / unit_m, camera.eye.z / unit_m};
   camera.look = {camera.look.x / unit_m, camera.look.y / unit_m, camera.look.z / unit_m};
   try {
@@ -207,15 +278,14 @@ int run_render(const RenderArgs& args) {
   }
   camera.eye = {camera.eye.x * unit_m, camera.eye.y * unit_m, camera.eye.z * unit_m};
   camera.look = {camera.look.x * unit_m, camera.look.y * unit_m, camera.look.z * unit_m};
-  try {
-    render(patches, camera, options).write_png(output);
-  } catch (const std::exception& e) {
-    std::cerr << "lambert render: " << e.what() << "\n";
-    return 1;
-  }
-  std::cout << "wrote " << output << " (" << camera.width << "x" << camera.height << ", "
-            << patches.triangles.size() << " patches)\n";
-  return 0;
+  return write_image(render(in.patches, camera, options), args.output,
+                     std::to_string(in.patches.triangles.size()) + " patches");
+}
+
+int run_render(const RenderArgs& args) {
+  RenderInput in;
+  if (const auto failed = load_input(args, in)) return *failed;
+  return args.probe_grid.empty() ? draw_view(args, in) : draw_grid(args, in);
 }
 
 }  // namespace
@@ -225,13 +295,19 @@ cli::CommandSpec command_render() {
             auto args = std::make_shared<RenderArgs>();
             o.input("INPUT", args->input, "a scene (solved first) or a result of lambert solve");
             o.output(args->output, "the PNG image to write").required();
-            o.text("--camera", args->camera_text,
+            const cli::Option camera_option = o.text("--camera", args->camera_text,
                    "\"eye=X,Y,Z look=X,Y,Z up=X,Y,Z fov=DEG size=WxH\", any of them, in scene units");
-            o.choice("--false-color,--false-colour", args->false_colour, {"none", "illuminance", "luminance"},
+            const cli::Option false_colour_option = o.choice("--false-color,--false-colour", args->false_colour, {"none", "illuminance", "luminance"},
                      "draw this quantity in false colour, with its scale");
             o.positive("--white", args->white_cd_m2,
                        "the luminance in cd/m2 shown as white (default: the brightest patch that does not emit)");
-            o.flag("--smooth", args->smooth, "interpolate the radiance between the patches' vertices");
+            const cli::Option smooth_option =
+                o.flag("--smooth", args->smooth, "interpolate the radiance between the patches' vertices");
+            o.choice("--scale", args->scale, {"log", "linear"},
+                     "the false colours' scale: three decades down from the largest value, or 0 to it");
+            cli::Option grid = o.text("--probe-grid", args->probe_grid,
+                                            "instead of a view: the map of this probe grid, with isolux lines", "NAME");
+            grid.excludes(camera_option).excludes(false_colour_option).excludes(smooth_option);
             o.footer(kRenderFooter);
             return [args] { return run_render(*args); };
           }};

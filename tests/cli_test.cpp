@@ -147,6 +147,8 @@ TEST(Cli, BadUsageExitsTwoNamingTheProblem) {
       {{"render", "x.json", "-o", "x.png", "--white", "-1"}, "--white: '-1' is not a number greater than 0"},
       {{"bench", "--scaling", "10"}, "--scaling: '10' is not a number from 1000 to 2e6"},
       {{"bench", "--scaling", "5000", "--quick"}, "excludes"},
+      {{"render", "x.json", "-o", "x.png", "--probe-grid", "g", "--smooth"}, "excludes"},
+      {{"render", "x.json", "-o", "x.png", "--scale", "sqrt"}, "--scale: 'sqrt' is not one of: log, linear"},
       {{"export", "r.json"}, "lambert export: --output is required"},
       {{"export", "r.json", "-o", "x.glb", "--shading", "soft"}, "--shading: 'soft' is not one of: smooth, flat"},
   };

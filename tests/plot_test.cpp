@@ -1,6 +1,7 @@
-// The PNG raster and the `lambert bench --plot` figure. Written files are read back with libpng's own
-// reader (its simplified read API), so the test sees what an image viewer sees; the data-to-pixel
-// mapping is checked against pixel positions worked out by hand.
+// Lambert's pictures: the cairo canvas (PNG written by cairo, read back with libpng's own reader, so
+// the test sees what an image viewer sees; text in DejaVu Sans placed as aligned, by the font's
+// published metrics), the false-colour scale and its ticks, the legend, and the `lambert bench --plot`
+// figure, whose data-to-pixel mapping is checked against pixel positions worked out by hand.
 #include <gtest/gtest.h>
 #include <png.h>
 #include <unistd.h>
@@ -13,7 +14,9 @@
 #include <vector>
 
 #include "server/bench_plot.h"
-#include "server/png_image.h"
+#include "server/canvas.h"
+#include "server/colour_scale.h"
+#include "server/legend.h"
 
 namespace lambert {
 namespace {
@@ -60,33 +63,31 @@ std::string describe(Rgb c) {
   return "(" + std::to_string(c.r) + ", " + std::to_string(c.g) + ", " + std::to_string(c.b) + ")";
 }
 
-TEST(PngImage, WrittenFileReadsBackPixelForPixel) {
+TEST(Canvas, WrittenFileReadsBackPixelForPixel) {
   // Distinct values in each channel, so swapped channels, a wrong row stride or a flipped image show.
   Image img(37, 23);
   for (int y = 0; y < img.height; ++y)
     for (int x = 0; x < img.width; ++x)
       img.set(x, y, {static_cast<std::uint8_t>(7 * x), static_cast<std::uint8_t>(11 * y),
                      static_cast<std::uint8_t>((x * y) % 256)});
-  img.line(0, 22, 36, 0, {1, 2, 3}, 2);
-  img.text(2, 2, "1e-3", {250, 0, 9}, 1);
   ASSERT_EQ(img.at(3, 5), (Rgb{21, 55, 15}));  // the pattern, by hand: 7·3, 11·5, 3·5
 
   TempFile file("roundtrip.png");
-  img.write_png(file.path());
+  write_png(img, file.path());
   const Decoded back = read_png(file.path());
   ASSERT_EQ(back.width, 37);
   ASSERT_EQ(back.height, 23);
-  ASSERT_EQ(back.rgb.size(), img.pixels.size());
   for (int y = 0; y < img.height; ++y)
     for (int x = 0; x < img.width; ++x)
       ASSERT_EQ(back.at(x, y), img.at(x, y)) << "pixel (" << x << ", " << y << ")";
+  EXPECT_EQ(Canvas(img).pixels().pixels, img.pixels);  // and through a canvas untouched
 }
 
-TEST(PngImage, UnwritablePathThrowsNamingThePath) {
+TEST(Canvas, UnwritablePathThrowsNamingThePath) {
   const std::string path = testing::TempDir() + "lambert-no-such-dir-" + std::to_string(getpid()) + "/out.png";
   ASSERT_FALSE(std::filesystem::exists(std::filesystem::path(path).parent_path()));
   try {
-    Image(4, 4).write_png(path);
+    write_png(Image(4, 4), path);
     FAIL() << "no exception";
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
@@ -99,70 +100,138 @@ TEST(PngImage, UnwritablePathThrowsNamingThePath) {
   }
 }
 
-TEST(PngImage, LinesRectanglesAndCirclesCoverTheirPixels) {
-  Image img(20, 20);
-  img.line(2, 3, 10, 3, kRed);
-  for (int x = 2; x <= 10; ++x) EXPECT_EQ(img.at(x, 3), kRed) << x;
+TEST(Canvas, ShapesCoverThePixelsInsideThem) {
+  Canvas c(40, 40, kWhite);
+  c.fill_rect({2, 3}, {10, 7}, kRed);  // pixels 2..9 × 3..6, whole
+  c.marker({25.5, 25.5}, 6, Marker::Circle, kRed);
+  c.line({0, 35.5}, {40, 35.5}, kRed, 1);  // along the centres of row 35
+  const Image img = c.pixels();
+  EXPECT_EQ(img.at(2, 3), kRed);
+  EXPECT_EQ(img.at(9, 6), kRed);
+  EXPECT_EQ(img.at(10, 6), kWhite);
   EXPECT_EQ(img.at(1, 3), kWhite);
-  EXPECT_EQ(img.at(11, 3), kWhite);
-  EXPECT_EQ(img.at(6, 2), kWhite);
-
-  Image diag(10, 10);
-  diag.line(8, 8, 0, 0, kRed);  // drawn backwards: still every (k, k) and nothing else on row 4
-  for (int k = 0; k <= 8; ++k) EXPECT_EQ(diag.at(k, k), kRed) << k;
-  EXPECT_EQ(diag.at(5, 4), kWhite);
-
-  Image thick(10, 10);
-  thick.line(5, 1, 5, 8, kRed, 3);  // a 3-pixel pen covers columns 4..6
-  for (int x = 4; x <= 6; ++x) EXPECT_EQ(thick.at(x, 5), kRed) << x;
-  EXPECT_EQ(thick.at(3, 5), kWhite);
-  EXPECT_EQ(thick.at(7, 5), kWhite);
-
-  Image rect(10, 10);
-  rect.fill_rect(6, 7, 2, 3, kRed);  // corners in either order
-  EXPECT_EQ(rect.at(2, 3), kRed);
-  EXPECT_EQ(rect.at(6, 7), kRed);
-  EXPECT_EQ(rect.at(1, 3), kWhite);
-  EXPECT_EQ(rect.at(7, 7), kWhite);
-
-  Image circle(20, 20);
-  circle.fill_circle(10, 10, 4, kRed);
-  EXPECT_EQ(circle.at(10, 10), kRed);
-  EXPECT_EQ(circle.at(14, 10), kRed);
-  EXPECT_EQ(circle.at(10, 6), kRed);
-  EXPECT_EQ(circle.at(14, 14), kWhite);  // the corner of the bounding square: 32 > 4² + 4
-  EXPECT_EQ(circle.at(15, 10), kWhite);
-
-  Image edge(5, 5);
-  edge.fill_circle(0, 0, 3, kRed);  // partly outside: clipped, no throw
-  EXPECT_EQ(edge.at(0, 0), kRed);
+  EXPECT_EQ(img.at(25, 25), kRed);
+  EXPECT_EQ(img.at(25, 21), kRed);     // 4 px above the centre, inside r = 6
+  EXPECT_EQ(img.at(25, 17), kWhite);   // 8 px above
+  EXPECT_EQ(img.at(30, 30), kWhite);   // the bounding square's corner: √50 > 6
+  EXPECT_EQ(img.at(12, 35), kRed);
+  EXPECT_EQ(img.at(12, 33), kWhite);
 }
 
-TEST(PngImage, FontHasDistinctGlyphsForEveryCharacterThePlotUses) {
-  const std::string needed =
-      "0123456789ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz.-+()/,:=%_? ";
-  std::vector<std::vector<std::uint8_t>> drawn;
-  for (char c : needed) {
-    EXPECT_TRUE(has_glyph(c)) << "'" << c << "'";
-    Image img(kGlyphWidth, kGlyphHeight + 2);
-    img.text(0, 0, std::string(1, c), kRed);
-    for (const auto& other : drawn) EXPECT_FALSE(img.pixels == other) << "'" << c << "' looks like an earlier glyph";
-    drawn.push_back(img.pixels);
-  }
-  // A character without a glyph is drawn as '?'.
-  EXPECT_FALSE(has_glyph('~'));
-  Image unknown(12, 9), question(12, 9);
-  unknown.text(0, 0, "~", kRed);
-  question.text(0, 0, "?", kRed);
-  EXPECT_EQ(unknown.pixels, question.pixels);
-  // Scale 2 doubles each font pixel: the 'i' dot (row 0, column 2) becomes columns 4-5 of rows 0-1.
-  Image big(12, 18);
-  big.text(0, 0, "i", kRed, 2);
-  EXPECT_EQ(big.at(4, 0), kRed);
-  EXPECT_EQ(big.at(5, 1), kRed);
-  EXPECT_EQ(big.at(3, 0), kWhite);
-  EXPECT_EQ(big.at(4, 2), kWhite);  // row 1 of the glyph is blank
-  EXPECT_EQ(text_width("abc", 2), 34);  // 3 advances of 6 less the trailing blank column, doubled
+TEST(Canvas, TextIsDejaVuSansAndItsInkLiesWhereItIsAligned) {
+  EXPECT_EQ(picture_font_family(), "DejaVu Sans");
+  TextStyle style;
+  style.size_px = 20;
+  style.h = HAlign::Centre;
+  style.v = VAlign::Middle;
+  Canvas c(200, 80, kWhite);
+  c.text({100, 40}, "1000", style);
+  const Image img = c.pixels();
+  int x0 = 200, x1 = -1, y0 = 80, y1 = -1;
+  for (int y = 0; y < 80; ++y)
+    for (int x = 0; x < 200; ++x)
+      if (img.at(x, y).r < 128) x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
+  ASSERT_GE(x1, x0) << "no ink";
+  // Centred on x = 100 and, digits having no descenders, on y = 40, to within a pixel of hinting.
+  EXPECT_NEAR((x0 + x1 + 1) / 2.0, 100, 1.5);
+  EXPECT_NEAR((y0 + y1 + 1) / 2.0, 40, 1.5);
+  // DejaVu Sans digits advance 0.636 em and stand 0.729 em tall: four of them at 20 px (hinting may
+  // round each advance to a whole pixel: up to ½ px each).
+  EXPECT_NEAR(text_width("1000", style), 4 * 0.636 * 20, 2.0);
+  EXPECT_NEAR(y1 - y0 + 1, 0.729 * 20, 1.5);
+}
+
+TEST(Canvas, PowersOfTenRaiseTheirExponent) {
+  TextStyle style;
+  style.size_px = 20;
+  style.v = VAlign::Baseline;
+  Canvas c(120, 60, kWhite);
+  c.power_of_ten({10, 45}, -3, style);
+  const Image img = c.pixels();
+  // The base "10" spans about 2 × 0.636 em from x = 10; the exponent starts after it and stands higher.
+  const int base_end = 10 + static_cast<int>(2 * 0.636 * 20);
+  auto top_of_ink = [&](int from, int to) {
+    for (int y = 0; y < 60; ++y)
+      for (int x = from; x < to; ++x)
+        if (img.at(x, y).r < 128) return y;
+    return 60;
+  };
+  const int base_top = top_of_ink(10, base_end - 1), exponent_top = top_of_ink(base_end + 1, 120);
+  EXPECT_LT(exponent_top, base_top - 4);
+  EXPECT_GT(power_of_ten_width(-3, style), text_width("10", style));
+}
+
+TEST(ColourScale, PositionsOnLogAndLinearScales) {
+  const ColourScale log = colour_scale({0, 5, 1000, 200}, ScaleKind::Log);
+  EXPECT_DOUBLE_EQ(log.lo, 5);
+  EXPECT_DOUBLE_EQ(log.hi, 1000);
+  EXPECT_DOUBLE_EQ(colour_scale({0, 0.5, 1e6}, ScaleKind::Log).lo, 1e3);  // three decades at most
+  // log(v / lo) / log(hi / lo): 50 is log(10)/log(200) = 0.4346 of the way.
+  EXPECT_NEAR(log.position(50), std::log(10.0) / std::log(200.0), 1e-12);
+  EXPECT_EQ(log.position(1000), 1);
+  EXPECT_EQ(log.position(1), 0);  // below the scale: clamped
+  EXPECT_EQ(log.position(0), 0);
+  const ColourScale linear = colour_scale({0, 5, 1000, 200}, ScaleKind::Linear);
+  EXPECT_EQ(linear.lo, 0);
+  EXPECT_DOUBLE_EQ(linear.position(250), 0.25);
+  EXPECT_EQ(colour_scale({0, -1}, ScaleKind::Log).hi, 0);
+  EXPECT_EQ(false_colour_ramp(0), (Rgb{0, 0, 64}));
+  EXPECT_EQ(false_colour_ramp(1), (Rgb{255, 0, 0}));
+  EXPECT_EQ(false_colour_ramp(0.5), (Rgb{0, 255, 128}));
+}
+
+std::vector<double> values_of(const std::vector<Tick>& ticks) {
+  std::vector<double> v;
+  for (const Tick& t : ticks) v.push_back(t.value);
+  return v;
+}
+
+TEST(ColourScale, TicksAreRoundNumbersInsideTheScale) {
+  // Three decades from 54 to 54 000 lx: 1, 2 and 5 × 10^k.
+  const ColourScale log{ScaleKind::Log, 54, 54000};
+  EXPECT_EQ(values_of(scale_ticks(log, 12)),
+            (std::vector<double>{100, 200, 500, 1000, 2000, 5000, 10000, 20000, 50000}));
+  EXPECT_EQ(values_of(scale_ticks(log, 5)), (std::vector<double>{100, 1000, 10000}));  // only decades
+  // Linear, 0 to 1234 with at most 6 ticks: the step is the first of 1, 2, 2.5, 5 × 10^k at or above
+  // 1234 / 5 = 246.8, that is 250.
+  EXPECT_EQ(values_of(scale_ticks({ScaleKind::Linear, 0, 1234}, 6)), (std::vector<double>{0, 250, 500, 750, 1000}));
+  const std::vector<double> tenths = values_of(scale_ticks({ScaleKind::Linear, 0, 1}, 11));
+  ASSERT_EQ(tenths.size(), 11u);  // 1 / 10 = 0.1 exactly a step: 0, 0.1, ..., 1
+  for (std::size_t k = 0; k < 11; ++k) EXPECT_NEAR(tenths[k], k / 10.0, 1e-12);
+  // A scale narrower than one tick gets its ends.
+  EXPECT_EQ(values_of(scale_ticks({ScaleKind::Log, 31, 42}, 8)), (std::vector<double>{31, 42}));
+  EXPECT_EQ(tick_label(0), "0");
+  EXPECT_EQ(tick_label(0.25), "0.25");
+  EXPECT_EQ(tick_label(0.30000000000000004), "0.3");
+  EXPECT_EQ(tick_label(20), "20");
+  EXPECT_EQ(tick_label(1000), "1000");
+  EXPECT_EQ(tick_label(12345), "12345");  // no exponent below 10^6; rounded to whole numbers
+  EXPECT_EQ(tick_label(54269.8), "54270");
+  EXPECT_EQ(tick_label(0.00015), "1.5e-4");
+  EXPECT_EQ(tick_label(2e6), "2e6");
+}
+
+TEST(Legend, TheBarRunsFromTheLowColourAtTheBottomToTheHighAtTheTop) {
+  const ColourScale scale{ScaleKind::Log, 10, 10000};
+  const std::vector<std::string> title = legend_title("Illuminance", "lx", ScaleKind::Log);
+  EXPECT_EQ(title, (std::vector<std::string>{"Illuminance (lx)", "log scale"}));
+  Canvas c(300, 300, kWhite);
+  const LegendStyle style;
+  const LegendBar bar = draw_legend(c, scale, title, {290, 10}, 280, style);
+  const LegendBar expected = legend_bar(scale, title, {290, 10}, 280, style);
+  EXPECT_EQ(bar.top_left.x, expected.top_left.x);
+  EXPECT_EQ(bar.height, expected.height);
+  const Image img = c.pixels();
+  const int x = static_cast<int>(bar.top_left.x + bar.width / 2);
+  EXPECT_EQ(img.at(x, static_cast<int>(bar.top_left.y)), false_colour_ramp(1));
+  EXPECT_EQ(img.at(x, static_cast<int>(bar.top_left.y + bar.height - 1)), false_colour_ramp(0));
+  // 100 lx sits a third of the way up a 10 to 10 000 lx log scale.
+  EXPECT_NEAR(bar.y_of(scale, 100), bar.top_left.y + bar.height * 2 / 3, 1e-9);
+  // Labels are drawn in the panel's text colour right of the bar: some white ink there.
+  int ink = 0;
+  for (int y = static_cast<int>(bar.top_left.y); y < bar.top_left.y + bar.height; ++y)
+    for (int xx = static_cast<int>(bar.top_left.x + bar.width + 8); xx < 290; ++xx) ink += img.at(xx, y).r > 200;
+  EXPECT_GT(ink, 50);
 }
 
 TEST(BenchPlot, DecadesLandOnTheirPixels) {
@@ -224,14 +293,14 @@ TEST(BenchPlot, AxesSpanWholeDecadesAroundTheData) {
 }
 
 TEST(BenchPlot, DecadeLabels) {
-  EXPECT_EQ(decade_label(-16), "1e-16");
-  EXPECT_EQ(decade_label(-3), "1e-3");
-  EXPECT_EQ(decade_label(-2), "0.01");
-  EXPECT_EQ(decade_label(-1), "0.1");
-  EXPECT_EQ(decade_label(0), "1");
-  EXPECT_EQ(decade_label(1), "10");
-  EXPECT_EQ(decade_label(3), "1000");
-  EXPECT_EQ(decade_label(4), "1e4");
+  EXPECT_FALSE(plain_decade_label(-16));  // drawn as 10 with a raised −16
+  EXPECT_FALSE(plain_decade_label(-3));
+  EXPECT_EQ(plain_decade_label(-2), "0.01");
+  EXPECT_EQ(plain_decade_label(-1), "0.1");
+  EXPECT_EQ(plain_decade_label(0), "1");
+  EXPECT_EQ(plain_decade_label(1), "10");
+  EXPECT_EQ(plain_decade_label(3), "1000");
+  EXPECT_FALSE(plain_decade_label(4));
 }
 
 TEST(BenchPlot, EachPointIsDrawnInItsSeriesColourOnAWhiteBackground) {

@@ -157,31 +157,37 @@ TEST(Render, SpecularHighlightAtTheMirrorDirection) {
 }
 
 TEST(Render, FalseColoursAndTheirScale) {
-  EXPECT_EQ(false_colour_ramp(0), (Rgb{0, 0, 64}));
-  EXPECT_EQ(false_colour_ramp(1), (Rgb{255, 0, 0}));
-  EXPECT_EQ(false_colour_ramp(0.5), (Rgb{0, 255, 128}));
-  EXPECT_EQ(false_colour_ramp(-3), false_colour_ramp(0));
-  const auto range = false_colour_range({0, 5, 1000, 200});
-  EXPECT_DOUBLE_EQ(range[0], 5);
-  EXPECT_DOUBLE_EQ(range[1], 1000);
-  EXPECT_DOUBLE_EQ(false_colour_range({0, 0.5, 1e6})[0], 1e3);  // three decades at most
-  // A floor under a point source: the patch straight below is the brightest (red); the scale bar's
-  // top is red and its bottom dark blue.
+  // A floor under a point source: the patch straight below is the brightest (red); the legend's bar
+  // runs from dark blue at the bottom to red at the top, where legend_bar says it is.
   SceneBuilder b(grid_nm());
   b.surface("floor", b.material("grey", 0.5), rectangle({-2, -2, 0}, {4, 0, 0}, {0, 4, 0}));
   b.point_light({0, 0, 1}, 1.0);
   b.max_patch_area(0.05);
   const Solution sol = solve(b.scene());
-  RenderOptions options;
-  options.false_colour = FalseColour::Illuminance;
-  Camera camera = looking_down(6, 30, 300);
-  camera.height = 200;
-  const Image image = render(render_patches(b.scene(), sol, make_report(b.scene(), sol)), camera, options);
-  const Rgb below = image.at(150, 100);
-  EXPECT_GT(below.r, 200);
-  EXPECT_LT(below.b, 60);
-  EXPECT_EQ(image.at(300 - 110 + 7, 14), false_colour_ramp(1));
-  EXPECT_EQ(image.at(300 - 110 + 7, 200 - 14), false_colour_ramp(0));
+  const Report report = make_report(b.scene(), sol);
+  const RenderPatches patches = render_patches(b.scene(), sol, report);
+  for (ScaleKind kind : {ScaleKind::Log, ScaleKind::Linear}) {
+    RenderOptions options;
+    options.false_colour = FalseColour::Illuminance;
+    options.scale = kind;
+    Camera camera = looking_down(6, 30, 400);
+    camera.height = 260;
+    const Image image = render(patches, camera, options);
+    const Rgb straight_below = image.at(camera.width / 2, camera.height / 2);
+    EXPECT_GT(straight_below.r, 200);
+    EXPECT_LT(straight_below.b, 60);
+    const ColourScale scale = colour_scale(patches.illuminance_lx, kind);
+    const LegendBar bar = legend_bar(scale, legend_title("Illuminance", "lx", kind), {camera.width - kLegendMargin, kLegendMargin},
+                                     camera.height - 2 * kLegendMargin, render_legend_style());
+    const int x = static_cast<int>(bar.top_left.x + bar.width / 2);
+    EXPECT_EQ(image.at(x, static_cast<int>(bar.top_left.y)), false_colour_ramp(1));
+    EXPECT_EQ(image.at(x, static_cast<int>(bar.top_left.y + bar.height - 1)), false_colour_ramp(0));
+  }
+  // A patch at a tenth of the largest illuminance: a third of the way up three decades on the log
+  // scale, a tenth of the way on the linear one.
+  const ColourScale log = colour_scale({1000, 100, 1}, ScaleKind::Log), linear = colour_scale({1000, 100, 1}, ScaleKind::Linear);
+  EXPECT_NEAR(log.position(100), 2.0 / 3, 1e-12);
+  EXPECT_NEAR(linear.position(100), 0.1, 1e-12);
 }
 
 TEST(Render, CameraSyntax) {
