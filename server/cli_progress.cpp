@@ -31,8 +31,10 @@ struct TerminalLine {
   double last_drawn_s = -1;
   int last_percent = -1;
   std::string stage = "solving";
+  double fraction = 0;
 
-  void draw(double fraction) {
+  void draw(double f) {
+    fraction = f;
     const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     const int percent = static_cast<int>(std::floor(100 * fraction));
     const bool done = fraction >= 1;
@@ -65,6 +67,11 @@ void show_progress_on_terminal(SolveControl& control) {
   if (!isatty(STDERR_FILENO)) return;
   auto line = std::make_shared<TerminalLine>();
   control.progress = [line](double f) { line->draw(f); };
+  control.stage = [line](SolveStage stage) {
+    line->stage = stage_name(stage);
+    line->last_percent = -1;  // redraw at once with the new name
+    line->draw(line->fraction);
+  };
 }
 
 }  // namespace lambert

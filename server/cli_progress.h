@@ -1,6 +1,6 @@
 // The progress line of `lambert solve` and the other solving commands: on a terminal, stderr shows
-// "links: 42 % (about 8 s left)", redrawn in place. The stage is the solver's when it names one
-// (see /work/notes/exports-needs.md), else "solving".
+// "links: 42 % (about 8 s left)", redrawn in place: the stage the solver reports (SolveControl::stage:
+// meshing, visibility, links, solve, probes; "solving" before the first) and the overall fraction.
 #pragma once
 
 #include <string>

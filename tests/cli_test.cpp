@@ -230,7 +230,13 @@ TEST(Cli, ServeStartsWithItsOptionsAndStopsOnSigterm) {
 TEST(Cli, ProgressIsDrawnInPlaceOnATerminal) {
   const TempDir dir;
   const fs::path scene = dir.path() / "scene.json", result = dir.path() / "result.json";
-  write_small_scene(scene);
+  // A grey floor and wall, so that there are links to form and a system to solve.
+  std::ofstream(scene) << R"({"lambert": 1, "spectrum": {"mode": "spectral", "wavelengths_nm": [555]},
+    "materials": {"grey": {"reflectance": 0.5}},
+    "surfaces": [{"name": "floor", "material": "grey", "polygon": [[0,0,0], [1,0,0], [1,1,0], [0,1,0]]},
+                 {"name": "wall", "material": "grey", "polygon": [[0,0,0], [0,0,1], [1,0,1], [1,0,0]]}],
+    "lights": [{"type": "point", "position": [0.5, 0.5, 1], "intensity": 1.0}],
+    "meshing": {"max_patch_area": 0.02}})";
   int master = -1;
   const pid_t pid = ::forkpty(&master, nullptr, nullptr, nullptr);
   ASSERT_GE(pid, 0);
@@ -247,6 +253,13 @@ TEST(Cli, ProgressIsDrawnInPlaceOnATerminal) {
   ::close(master);
   EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << seen;
   EXPECT_TRUE(std::regex_search(seen, std::regex(R"(\r\w+: 100 % \(\d+\.\d s\))"))) << seen;
+  // The line names the solver's stages as they begin, in the pipeline's order.
+  std::size_t at = 0;
+  for (const char* stage : {"\rmeshing:", "\rvisibility:", "\rlinks:", "\rsolve:", "\rprobes:"}) {
+    const std::size_t found = seen.find(stage, at);
+    EXPECT_NE(found, std::string::npos) << stage << " after offset " << at << " in " << seen;
+    if (found != std::string::npos) at = found;
+  }
   // Without a terminal there is no progress line at all.
   const Outcome piped = run({"solve", scene.string(), "-o", result.string()});
   EXPECT_EQ(piped.err.find('\r'), std::string::npos);
