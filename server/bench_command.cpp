@@ -329,7 +329,7 @@ json run_ray_cost() {
     const DecodeResult decoded = decode_scene(c.scene.dump(), FileAccess{FileAccess::Policy::Deny, {}, {}});
     if (!decoded.ok()) throw std::runtime_error(c.name + ": " + format_errors(decoded.errors));
     const Solution sol = solve(*decoded.scene);
-    const double solver_ns = sol.stats.link_rays > 0 ? 1e9 * sol.stats.link_ray_thread_s / sol.stats.link_rays : 0;
+    const double solver_ns = sol.stats.link_rays > 0 ? 1e9 * sol.stats.dense.link_ray_thread_s / sol.stats.link_rays : 0;
     std::vector<Triangle> occluders;
     for (const Patch& p : sol.patches) occluders.push_back(p.triangle);
     const Visibility vis(occluders, Visibility::Estimates::fast);  // as the solver traces link rays

@@ -61,6 +61,18 @@ json patch_json(const Scene& scene, const Solution& sol, const Report& report, s
   return j;
 }
 
+
+// The method's own stats (SPEC §5), beside the common ones.
+json method_stats(const SolveStats& st) {
+  if (st.method == SolverMethod::Dense)
+    return {{"adaptive_rounds", st.dense.adaptive_rounds}, {"link_ray_thread_s", st.dense.link_ray_thread_s}};
+  const SolveStats::Hierarchical& h = st.hierarchical;
+  return {{"element_links", h.element_links}, {"cluster_links", h.cluster_links},
+          {"leaf_links", h.leaf_links},       {"leaf_links_traced", h.leaf_links_traced},
+          {"leaf_links_exact", h.leaf_links_exact}, {"crowded_links", h.crowded_links},
+          {"refine_rounds", h.refine_rounds}};
+}
+
 }  // namespace
 
 void write_result(std::ostream& os, const Scene& scene, const Solution& sol, const Report& report) {
@@ -183,17 +195,17 @@ void write_result(std::ostream& os, const Scene& scene, const Solution& sol, con
       {"rays", st.rays},
       {"exact_visibility_evaluations", st.exact_visibility_evaluations},
       {"links_clear_without_rays", st.links_clear},
-      {"leaf_links", st.leaf_links},
-      {"leaf_links_traced", st.leaf_links_traced},
-      {"leaf_links_exact", st.leaf_links_exact},
-      {"crowded_links", st.crowded_links},
+      {"leaf_links", st.hierarchical.leaf_links},
+      {"leaf_links_traced", st.hierarchical.leaf_links_traced},
+      {"leaf_links_exact", st.hierarchical.leaf_links_exact},
+      {"crowded_links", st.hierarchical.crowded_links},
       {"link_rays", st.link_rays},
-      {"link_ray_thread_s", st.link_ray_thread_s},
+      {"link_ray_thread_s", st.dense.link_ray_thread_s},
       {"iterations", st.iterations},
       {"residual", st.residual},
       {"spectral_systems_solved", st.spectral_systems_solved},
       {"max_patch_area_m2", st.max_patch_area_m2},
-      {"adaptive_rounds", st.adaptive_rounds},
+      {"adaptive_rounds", st.dense.adaptive_rounds},
       {"direct_refinement_patches", st.direct_refinement_patches},
       {"fine_regions_remeshed", st.fine_regions_remeshed},
       {"contact_triangles_cut", st.contact_triangles_cut},
@@ -216,6 +228,8 @@ void write_result(std::ostream& os, const Scene& scene, const Solution& sol, con
         {"solve", st.time_solve_s},
         {"probes", st.time_probes_s},
         {"total", st.time_total_s}}}};
+  out["stats"]["method"] = method_name(st.method);
+  out["stats"][method_name(st.method)] = method_stats(st);
   out["warnings"] = sol.warnings;
 
   // out.dump(), with "patches" (in its sorted place among the keys) written patch by patch.

@@ -18,11 +18,36 @@ const char* stage_name(SolveStage stage) {
   return "solve";
 }
 
-double default_max_patch_area(const Scene& scene) {
+const char* method_name(SolverMethod method) {
+  switch (method) {
+    case SolverMethod::Auto: return "auto";
+    case SolverMethod::Dense: return "dense";
+    case SolverMethod::Hierarchical: return "hierarchical";
+  }
+  return "auto";
+}
+
+double scene_area(const Scene& scene) {
   double total = 0;
   for (const Surface& s : scene.surfaces)
     for (std::size_t t = 0; t < s.mesh.triangles.size(); ++t) total += s.mesh.triangle(t).area();
-  return total / 1200;
+  return total;
+}
+
+double default_max_patch_area(const Scene& scene) { return scene_area(scene) / 1200; }
+
+std::vector<Triangle> input_triangles(const Scene& scene) {
+  std::vector<Triangle> out;
+  for (const Surface& s : scene.surfaces)
+    for (std::size_t t = 0; t < s.mesh.triangles.size(); ++t) out.push_back(s.mesh.triangle(t));
+  return out;
+}
+
+std::vector<char> input_two_sided(const Scene& scene) {
+  std::vector<char> out;
+  for (const Surface& s : scene.surfaces)
+    for (std::size_t t = 0; t < s.mesh.triangles.size(); ++t) out.push_back(t < s.two_sided.size() ? s.two_sided[t] : 0);
+  return out;
 }
 
 std::size_t patch_limit(std::size_t solver_limit, const SolveControl& control) {

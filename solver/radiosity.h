@@ -31,20 +31,16 @@ struct ProbeResult {
   std::vector<double> irradiance;  // [point][λ] flat, W m^-2 nm^-1
 };
 
+// What a solve measured: the fields every method fills, then each method's own (stats.dense,
+// stats.hierarchical; SPEC §5).
 struct SolveStats {
+  SolverMethod method = SolverMethod::Dense;  // the method that ran (never Auto)
   std::size_t patches = 0;
-  std::size_t links = 0;               // patch pairs with a non-zero factor
+  std::size_t links = 0;               // dense: patch pairs with a non-zero factor; hierarchical: every link
   std::uint64_t rays = 0;
   std::uint64_t exact_visibility_evaluations = 0;  // exact Boolean evaluations (probe point × input triangle)
   std::uint64_t links_clear = 0;       // links wholly visible by the occluder planes: no rays (occluder_planes.h)
-  std::uint64_t link_rays = 0;         // rays traced for patch-pair links (dense method)
-  std::size_t leaf_links = 0;          // hierarchical: links formed at the leaves by the final gather
-  std::size_t leaf_links_traced = 0;   // of which needed the leaf's own rays
-  std::size_t leaf_links_exact = 0;    // of which were partly visible, with the exact visible part
-  std::size_t crowded_links = 0;       // exact visibility: links that kept their rays' estimate (or stayed
-                                       // hidden), their pair's box holding too many occluders
-  double link_ray_thread_s = 0;        // thread time spent on them, summed over threads: sample points,
-                                       // kernel weights, Embree and the votes (the per-ray cost)
+  std::uint64_t link_rays = 0;         // rays traced for links
   int iterations = 0;                  // largest over the spectral systems
   double residual = 0;                 // largest final relative residual
   int spectral_systems_solved = 0;
@@ -62,9 +58,24 @@ struct SolveStats {
   std::size_t sliver_regions_remeshed = 0;  // planar regions of slivers joined and triangulated again
   double contact_area_m2 = 0;            // face-to-face contact area removed (both faces counted)
   std::size_t enclosed_patches = 0;      // patches inside closed solids, left out of the result
-  int adaptive_rounds = 0;             // meshing.adaptive: how many refine-and-solve rounds ran
   std::size_t direct_refinement_patches = 0;  // meshing.refine_direct: patches added before the solve
   std::size_t fine_regions_remeshed = 0;  // over-tessellated planar regions joined before meshing
+
+  struct Dense {
+    int adaptive_rounds = 0;        // meshing.adaptive: how many refine-and-solve rounds ran
+    double link_ray_thread_s = 0;   // thread time spent on link rays, summed over threads: sample
+                                    // points, kernel weights, Embree and the votes (the per-ray cost)
+  } dense;
+  struct Hierarchical {
+    std::size_t element_links = 0;  // links into elements (from elements or clusters) after the gather
+    std::size_t cluster_links = 0;  // links into clusters
+    std::size_t leaf_links = 0;          // links formed at the leaves by the final gather
+    std::size_t leaf_links_traced = 0;   // of which needed the leaf's own visibility
+    std::size_t leaf_links_exact = 0;    // of which were partly visible, with the exact visible part
+    std::size_t crowded_links = 0;  // exact visibility: links that kept their rays' estimate (or stayed
+                                    // hidden), their pair's box holding too many occluders
+    int refine_rounds = 0;          // refinement rounds that changed the links
+  } hierarchical;
 };
 
 // One source's share of the solution (output.per_source). The radiosity equation is linear in the
@@ -98,7 +109,8 @@ struct Solution {
 //   Solve: the linear systems and the outputs
 //   Probes: the probe points
 enum class SolveStage { Meshing, Visibility, Links, Solve, Probes };
-const char* stage_name(SolveStage stage);  // "meshing", "visibility", "links", "solve", "probes"
+const char* stage_name(SolveStage stage);
+const char* method_name(SolverMethod method);  // "auto", "dense", "hierarchical" (the scene's words)  // "meshing", "visibility", "links", "solve", "probes"
 
 // Progress in [0, 1] and cooperative cancellation (checked between work items).
 struct SolveControl {
@@ -107,12 +119,19 @@ struct SolveControl {
   const std::atomic<bool>* cancel = nullptr;
   std::size_t max_patches = 0;  // a service's limit on the patch count (0: only the solver's own);
                                 // exceeding it throws SolveError, before the form factors
+
+  bool cancelled() const { return cancel && cancel->load(std::memory_order_relaxed); }
+  void check_cancel() const;  // throws SolveCancelled where cancel is set
 };
 
 class SolveCancelled : public std::runtime_error {
  public:
   SolveCancelled() : std::runtime_error("solve cancelled") {}
 };
+inline void SolveControl::check_cancel() const {
+  if (cancelled()) throw SolveCancelled();
+}
+
 // A scene that is valid JSON but cannot be solved (e.g. a closed room with ρ = 1 everywhere).
 class SolveError : public std::runtime_error {
  public:
@@ -129,11 +148,18 @@ std::size_t patch_limit(std::size_t solver_limit, const SolveControl& control);
 void check_patch_count(double patches, bool estimate, std::size_t solver_limit, const SolveControl& control);
 
 
-
 Solution solve(const Scene& scene, const SolveControl& control = {});
 
 // The default patch size when the scene does not set meshing.max_patch_area: total area / 1200,
 // which keeps the Cornell box near 1500 patches.
 double default_max_patch_area(const Scene& scene);
+
+// The scene's input triangles (metres), every surface's in order: the occluders of exact visibility
+// and of the occluder planes, and what Patch::input_triangle counts.
+std::vector<Triangle> input_triangles(const Scene& scene);
+// Surface::two_sided of each input triangle, in the same order.
+std::vector<char> input_two_sided(const Scene& scene);
+// The total area of the input triangles (m²).
+double scene_area(const Scene& scene);
 
 }  // namespace lambert

@@ -1,8 +1,8 @@
-// The hierarchical solver (solver/hierarchical.h) against closed forms (../shared/REFERENCES.md:
+// The hierarchical method (solver/hierarchical/) against closed forms (../shared/REFERENCES.md:
 // Howell C-11 and C-14 patch averages, the furnace B = M/(1 − ρ) in a room with a floating box, R5
 // energy balance with a point source), against the dense solver as a second method on the same
 // scenes, and its cost: links grow about linearly with the number of triangles.
-#include "solver/hierarchical.h"
+#include "solver/radiosity.h"
 
 #include <gtest/gtest.h>
 
@@ -116,9 +116,9 @@ TEST(Hierarchical, ExactVisibilityClosesTheRowsNearAnOccluder) {
   EXPECT_LT(visible.stats.max_closure_error, 0.2 * gathered.stats.max_closure_error);
   EXPECT_LT(visible.stats.max_closure_error, 1e-5);
   EXPECT_LT(visible.stats.max_closure_error, 0.01 * dense.stats.max_closure_error);
-  EXPECT_GT(visible.stats.leaf_links_exact, 10000u);
-  EXPECT_EQ(visible.stats.crowded_links, 0u);  // 24 occluders: no shaft can hold more than 48
-  EXPECT_EQ(gathered.stats.leaf_links_exact, 0u);
+  EXPECT_GT(visible.stats.hierarchical.leaf_links_exact, 10000u);
+  EXPECT_EQ(visible.stats.hierarchical.crowded_links, 0u);  // 24 occluders: no shaft can hold more than 48
+  EXPECT_EQ(gathered.stats.hierarchical.leaf_links_exact, 0u);
   for (const Solution* sol : {&refined, &gathered, &visible}) expect_furnace(*sol, 0.5);
 }
 
@@ -175,7 +175,7 @@ TEST(Hierarchical, ExactVisibilityKeepsTheRaysOfCrowdedLinks) {
   // kSmallScene): every link is gathered exactly, and the raw closure (stats.max_closure_error,
   // before the balance) is what exact visibility gives near one cube. Twenty-four (300): links near
   // whose boxes lie more than kExactOccluders occluders, such as those along the hall past many
-  // cubes, keep their rays' estimate (stats.crowded_links) as by default, the others are gathered
+  // cubes, keep their rays' estimate (stats.hierarchical.crowded_links) as by default, the others are gathered
   // exactly, and the raw closure lies between the default's and the eight cubes'. The furnace is
   // exact in every case (the balance), and no link is crowded by default.
   for (const int rows : {1, 3}) {
@@ -193,15 +193,15 @@ TEST(Hierarchical, ExactVisibilityKeepsTheRaysOfCrowdedLinks) {
     const Solution by_default = solve_with(b.scene(), SolverMethod::Hierarchical);
     const Solution visible = solve_with(exact, SolverMethod::Hierarchical);
     std::printf("%d row(s): closure by default %.3g, exact visibility %.3g; crowded links %zu, exact leaf links %zu\n",
-                rows, by_default.stats.max_closure_error, visible.stats.max_closure_error, visible.stats.crowded_links,
-                visible.stats.leaf_links_exact);
-    EXPECT_EQ(by_default.stats.crowded_links, 0u);
-    EXPECT_GT(visible.stats.leaf_links_exact, 1000u);
+                rows, by_default.stats.max_closure_error, visible.stats.max_closure_error, visible.stats.hierarchical.crowded_links,
+                visible.stats.hierarchical.leaf_links_exact);
+    EXPECT_EQ(by_default.stats.hierarchical.crowded_links, 0u);
+    EXPECT_GT(visible.stats.hierarchical.leaf_links_exact, 1000u);
     if (rows == 1) {
-      EXPECT_EQ(visible.stats.crowded_links, 0u);
+      EXPECT_EQ(visible.stats.hierarchical.crowded_links, 0u);
       EXPECT_LT(visible.stats.max_closure_error, 1e-4);
     } else {
-      EXPECT_GT(visible.stats.crowded_links, 1000u);
+      EXPECT_GT(visible.stats.hierarchical.crowded_links, 1000u);
       EXPECT_LT(visible.stats.max_closure_error, by_default.stats.max_closure_error);
     }
     expect_furnace(by_default, 0.5);
@@ -227,7 +227,7 @@ TEST(Hierarchical, ExactVisibilityClosesTheRowsWhereverTheSceneSits) {
     scene.solver.exact_visibility = true;
     const Solution sol = solve_with(scene, SolverMethod::Hierarchical);
     EXPECT_LT(sol.stats.max_closure_error, 1e-5) << offset.x;
-    EXPECT_GT(sol.stats.leaf_links_exact, 1000u) << offset.x;
+    EXPECT_GT(sol.stats.hierarchical.leaf_links_exact, 1000u) << offset.x;
     expect_furnace(sol, 0.5);
   }
 }
@@ -304,7 +304,7 @@ TEST(Hierarchical, BlackRoomLitByItsFloorMatchesThePointFactors) {
     // walls were refined from the first round, whose dropped links did not come back: 0.97 %, 9.7e-3).
     EXPECT_LT(worst, 1e-4);
     EXPECT_LT(sol.stats.max_closure_error, 1e-5);
-    EXPECT_GT(sol.stats.leaf_links, sol.patches.size());
+    EXPECT_GT(sol.stats.hierarchical.leaf_links, sol.patches.size());
   } else {
     // The refiner's links alone, as the oracle lets them err: worst 1.18 %, mean 2e-5 (the linear fits
     // at the default accuracy; 1.27 % before near links read their source where the receiver sees it;
@@ -312,7 +312,7 @@ TEST(Hierarchical, BlackRoomLitByItsFloorMatchesThePointFactors) {
     // columns mended.
     EXPECT_LT(worst, 0.02);
     EXPECT_GT(worst, 1e-3);  // what the gather removes
-    EXPECT_EQ(sol.stats.leaf_links, 0u);
+    EXPECT_EQ(sol.stats.hierarchical.leaf_links, 0u);
   }
   EXPECT_LT(std::abs(sum / n), 1e-3);
   }
@@ -524,7 +524,7 @@ TEST(Hierarchical, AgreesWithDenseSolver) {
     EXPECT_GT(sol->stats.links_clear, 0u);
     EXPECT_GT(sol->stats.link_rays, 0u);
   }
-  EXPECT_GT(exact.stats.leaf_links_exact, 0u);
+  EXPECT_GT(exact.stats.hierarchical.leaf_links_exact, 0u);
 }
 
 // A strong emitter sealed inside a closed box (whose faces all face out) sends nothing into the room:

@@ -343,7 +343,7 @@ TEST(AdaptiveMeshing, RefinesAtTheShadowEdgeAndLowersTheError) {
   const Solution uniform = shadowed_floor(false, false), adaptive = shadowed_floor(false, true);
   const double e_uniform = shadow_representation_error(uniform), e_adaptive = shadow_representation_error(adaptive);
   EXPECT_EQ(uniform.stats.direct_refinement_patches, 0u);
-  EXPECT_GE(adaptive.stats.adaptive_rounds, 1);
+  EXPECT_GE(adaptive.stats.dense.adaptive_rounds, 1);
   EXPECT_GT(adaptive.patches.size(), uniform.patches.size());
   // Refined locally, not everywhere: two uniform 1:4 levels would give 16 times the patches.
   EXPECT_LT(adaptive.patches.size(), 16 * uniform.patches.size() / 3);
@@ -358,7 +358,7 @@ TEST(AdaptiveMeshing, RefinesAtTheShadowEdgeAndLowersTheError) {
 TEST(AdaptiveMeshing, DirectRefinementSplitsOnlyAtTheShadowEdge) {
   const Solution uniform = shadowed_floor(false, false), refined = shadowed_floor(true, false);
   const double e_uniform = shadow_representation_error(uniform), e_refined = shadow_representation_error(refined);
-  EXPECT_EQ(refined.stats.adaptive_rounds, 0);
+  EXPECT_EQ(refined.stats.dense.adaptive_rounds, 0);
   EXPECT_EQ(refined.stats.direct_refinement_patches, refined.patches.size() - uniform.patches.size());
   EXPECT_GT(refined.patches.size(), uniform.patches.size());
   EXPECT_LT(e_refined, 0.6 * e_uniform) << e_uniform << " -> " << e_refined;

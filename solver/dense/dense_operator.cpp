@@ -20,16 +20,8 @@ DenseOperator::DenseOperator(const Scene& scene, std::vector<Patch> patches, Sol
   for (std::size_t i = 0; i < N; ++i) occluders[i] = patches_[i].triangle;
   vis_ = std::make_unique<Visibility>(occluders, Visibility::Estimates::fast);  // link rays in the fast BVH
   // Pairs that no occluder plane separates need no rays, links and probes alike (occluder_planes.h).
-  std::vector<Triangle> input_triangles;
-  for (const Surface& surface : scene.surfaces)
-    for (std::size_t t = 0; t < surface.mesh.triangles.size(); ++t) input_triangles.push_back(surface.mesh.triangle(t));
-  planes_ = std::make_unique<OccluderPlanes>(input_triangles);
-  std::vector<char> two_sided(input_triangles.size(), 0);  // Surface::two_sided, over all surfaces
-  for (std::size_t s = 0, first = 0; s < scene.surfaces.size(); first += scene.surfaces[s++].mesh.triangles.size()) {
-    const Surface& surface = scene.surfaces[s];
-    for (std::size_t t = 0; t < surface.two_sided.size() && t < surface.mesh.triangles.size(); ++t)
-      two_sided[first + t] = surface.two_sided[t];
-  }
+  planes_ = std::make_unique<OccluderPlanes>(input_triangles(scene));
+  const std::vector<char> two_sided = input_two_sided(scene);
   sides_.resize(planes_->usable() ? N : 0);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, sides_.size(), 256), [&](const auto& range) {
     for (std::size_t i = range.begin(); i != range.end(); ++i) sides_[i] = planes_->sides(patches_[i].triangle.v);
@@ -174,7 +166,8 @@ void DenseOperator::report(SolveStats& stats) const {
   stats.links = factors_.links;
   stats.links_clear = factors_.links_clear;
   stats.link_rays = factors_.link_rays;
-  stats.link_ray_thread_s = factors_.link_ray_thread_s;
+  stats.method = SolverMethod::Dense;
+  stats.dense.link_ray_thread_s = factors_.link_ray_thread_s;
   stats.max_closure_error = max_closure_error_;
   stats.closure_residual = closure_residual_;
   stats.max_reciprocity_error = max_reciprocity_error_;

@@ -37,10 +37,7 @@ std::vector<Patch> mesh_patches(const Scene& scene, double max_area) {
 std::vector<Patch> refine_where_direct_light_varies(const Scene& scene, std::vector<Patch> patches, double max_area,
                                                     std::size_t limit, const SolveControl& control) {
   if (!has_direct_light(scene)) return patches;
-  std::vector<Triangle> input_triangles;
-  for (const Surface& surface : scene.surfaces)
-    for (std::size_t t = 0; t < surface.mesh.triangles.size(); ++t) input_triangles.push_back(surface.mesh.triangle(t));
-  const Visibility vis(input_triangles);
+  const Visibility vis(input_triangles(scene));
   for (int round = 0; round < 2; ++round) {
     std::vector<char> marked = where_varies(patches, direct_irradiance_totals(scene, patches, vis, control), kDirectRatio);
     if (round == 0) mark_near_probes(patches, scene.probes, marked);
@@ -57,10 +54,7 @@ std::vector<Patch> dense_patches(const Scene& scene, double max_area, const Solv
   // Every patch has an area <= max_area, so total area / max_area bounds the patch count from below:
   // a limit that is sure to be exceeded is reported before meshing, which a tiny max_patch_area
   // would otherwise drive out of memory.
-  double total_area = 0;
-  for (const Surface& s : scene.surfaces)
-    for (std::size_t t = 0; t < s.mesh.triangles.size(); ++t) total_area += s.mesh.triangle(t).area();
-  check_patch_count(total_area / max_area, true, kMaxDensePatches, control);
+  check_patch_count(scene_area(scene) / max_area, true, kMaxDensePatches, control);
   std::vector<Patch> patches = mesh_patches(scene, max_area);
   const std::size_t base = patches.size();
   if (scene.meshing.refine_direct)

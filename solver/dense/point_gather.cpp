@@ -49,12 +49,6 @@ void visible_point_triangle_factors(const Point3& p, const Vector3& n, const std
   }
 }
 
-std::vector<Triangle> input_triangles(const Scene& scene) {
-  std::vector<Triangle> out;
-  for (const Surface& s : scene.surfaces)
-    for (std::size_t t = 0; t < s.mesh.triangles.size(); ++t) out.push_back(s.mesh.triangle(t));
-  return out;
-}
 
 }  // namespace
 

@@ -5,7 +5,7 @@
 
 #include "solver/dense/dense_operator.h"
 #include "solver/dense/discretise.h"
-#include "solver/hierarchical.h"
+#include "solver/hierarchical/discretise.h"
 #include "solver/pipeline/pipeline.h"
 #include "solver/pipeline/prepare.h"
 #include "solver/radiosity.h"
@@ -18,10 +18,6 @@ double seconds_since(Clock::time_point t0) { return std::chrono::duration<double
 
 constexpr int kAdaptiveRounds = 2;
 
-void check_cancel(const SolveControl& control) {
-  if (control.cancel && control.cancel->load(std::memory_order_relaxed)) throw SolveCancelled();
-}
-
 // The dense method on `premeshed` patches, or on the scene's own meshing.
 Solution solve_dense(const Scene& scene, const SolveControl& control, const std::vector<Patch>* premeshed) {
   const auto t_start = Clock::now();
@@ -31,10 +27,19 @@ Solution solve_dense(const Scene& scene, const SolveControl& control, const std:
   std::vector<Patch> patches = premeshed ? *premeshed : dense_patches(scene, max_area, control, stats);
   check_patch_count(static_cast<double>(patches.size()), false, kMaxDensePatches, control);
   stats.time_meshing_s = seconds_since(t_start);
-  check_cancel(control);
+  control.check_cancel();
   enter_stage(control, SolveStage::Visibility);
   DenseOperator op(scene, std::move(patches), stats);
   return run_pipeline(scene, op, stats, control, t_start);
+}
+
+// The hierarchical method: its element forest and operator, and the pipeline.
+Solution solve_hierarchical(const Scene& scene, const SolveControl& control) {
+  const auto t_start = Clock::now();
+  SolveStats stats;
+  auto op = hierarchical::discretise(scene, control, stats);
+  control.check_cancel();
+  return run_pipeline(scene, *op, stats, control, t_start);
 }
 
 // Adaptive meshing (meshing.adaptive): solve, split the patches where the irradiance jumps between
@@ -53,7 +58,7 @@ Solution solve_dense_adaptive(const Scene& scene, const SolveControl& control) {
     if (refined.size() == sol.patches.size()) break;
     const std::size_t direct_refinement = sol.stats.direct_refinement_patches;  // of the first pass
     sol = solve_dense(scene, pass_control(round), &refined);
-    sol.stats.adaptive_rounds = round;
+    sol.stats.dense.adaptive_rounds = round;
     sol.stats.direct_refinement_patches = direct_refinement;
   }
   sol.stats.time_total_s = seconds_since(t_start);

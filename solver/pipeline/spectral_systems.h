@@ -49,6 +49,10 @@ class SpectralSystems {
   // Patch i in system k: its radiosity (x for an unknown, M + ρ E for a known patch) and reflectance.
   double radiosity(std::size_t k, std::size_t i) const;
   double reflectance(std::size_t k, std::size_t i) const { return rho_[i * W_ + representative_[k].w]; }
+  // Patch i's Lambertian emission in system k (the same for every (set, λ) the system serves).
+  double emission(std::size_t k, std::size_t i) const {
+    return emission(representative_[k].set, representative_[k].w, i);
+  }
   // System k's radiosity over all patches. A spectral radiosity is ≥ 0, so a negative x is round-off
   // and is dropped; an rgb channel value may be negative (solver/rgb_model.h) and is kept (keep_sign).
   std::vector<double> radiosity_vector(std::size_t k, bool keep_sign) const;

@@ -1,0 +1,140 @@
+#include "solver/hierarchical/clusters.h"
+
+#include <algorithm>
+
+#include "solver/visible_fraction.h"
+
+namespace lambert::hierarchical {
+
+ClusterTree::ClusterSample cluster_sample(const ClusterTree& h, const Cluster& C, int k) {
+  if (C.samples >= 0 && k < kTabledClusterSamples) return h.cluster_samples[C.samples + k];
+  const int pick = (37 * k + 11) % kMaxVisibilitySamples;
+  const ClusterTree::RootSample& root =
+      h.ordered_roots[C.first_root + static_cast<int>(static_cast<long long>(pick) * C.root_count / kMaxVisibilitySamples)];
+  return {visibility_sample(root.tri, k), root.normal};
+}
+
+namespace {
+
+// Builds the BVH over root_order[first, first + count) (median split on the longest axis of the
+// centroids); returns the cluster's index. Children are appended after their parent.
+int build_clusters(ClusterTree& h, const ElementForest& f, int first, int count) {
+  const int index = static_cast<int>(h.clusters.size());
+  h.clusters.emplace_back();
+  FacetBounds facets;
+  Bounds3 centroids;
+  for (int k = first; k < first + count; ++k) {
+    const Element& e = f.elements[h.root_order[k]];
+    facets.add(e.tri, e.normal, e.area);
+    centroids.add(e.centre);
+  }
+  facets.fit_cone([&](auto&& each) {
+    for (int k = first; k < first + count; ++k) each(f.elements[h.root_order[k]].normal);
+  });
+  {
+    Cluster& c = h.clusters[index];
+    static_cast<FacetBounds&>(c) = facets;
+    c.centre = facets.box.center();
+    c.radius = 0.5 * length(facets.box.diagonal());
+    c.first_root = first;
+    c.root_count = count;
+  }
+  if (count == 1) {
+    h.clusters[index].root = h.root_order[first];
+    h.clusters[index].slot = f.root_slot(h.root_order[first]);
+    return index;
+  }
+  const Vector3 extent = centroids.diagonal();
+  const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
+  auto key = [&](int e) {
+    const Point3& p = f.elements[e].centre;
+    return axis == 0 ? p.x : axis == 1 ? p.y : p.z;
+  };
+  const int half = count / 2;
+  std::nth_element(h.root_order.begin() + first, h.root_order.begin() + first + half,
+                   h.root_order.begin() + first + count, [&](int a, int b) { return key(a) < key(b); });
+  const int left = build_clusters(h, f, first, half);
+  const int right = build_clusters(h, f, first + half, count - half);
+  h.clusters[index].child[0] = left;
+  h.clusters[index].child[1] = right;
+  return index;
+}
+
+// Bounds of Σ A (n·w)⁺ over the roots of cluster c, added to [lower, upper]. A subtree whose normal
+// cone lies wholly in front of w's horizon adds its area vector · w, one wholly behind adds nothing,
+// and one with axis-aligned normals adds its bins, all exactly; only clusters whose normals straddle
+// the horizon are descended into, at most `budget` of them. Past the budget a cluster adds
+// (area vector · w)⁺ below and its bins above.
+void bound_projected_area(const ClusterTree& h, int c, const Vector3& w, int& budget, double& lower, double& upper) {
+  const Cluster& C = h.clusters[c];
+  double exact = -1;
+  if (C.axis_normals) {
+    exact = binned_area(C, w);
+  } else if (C.cone_sin <= 1 || C.root >= 0) {
+    const double along = dot(C.cone_axis, w);
+    if (along >= C.cone_sin || C.root >= 0) exact = std::max(0.0, dot(C.area_vector, w));
+    else if (along <= -C.cone_sin) exact = 0;
+  }
+  if (exact >= 0) {
+    lower += exact, upper += exact;
+  } else if (budget-- <= 0) {
+    lower += std::max(0.0, dot(C.area_vector, w)), upper += binned_area(C, w);
+  } else {
+    bound_projected_area(h, C.child[0], w, budget, lower, upper);
+    bound_projected_area(h, C.child[1], w, budget, lower, upper);
+  }
+}
+constexpr int kProjectionBudget = 256;  // clusters descended into per bound_projected_area
+
+// Fills ClusterTree::cluster_samples (see there) once the clusters and ordered_roots are built.
+void table_cluster_samples(ClusterTree& h) {
+  for (Cluster& C : h.clusters) {
+    if (C.root_count <= kTabledClusterSamples) continue;
+    const int first = static_cast<int>(h.cluster_samples.size());
+    for (int k = 0; k < kTabledClusterSamples; ++k) h.cluster_samples.push_back(cluster_sample(h, C, k));
+    C.samples = first;
+  }
+}
+
+}  // namespace
+
+ClusterView cluster_view(const ClusterTree& h, int c, const Vector3& w) {
+  ClusterView view;
+  const double wa[3] = {w.x, w.y, w.z};
+  for (int a = 0; a < 3; ++a) view.bin[a] = static_cast<unsigned char>(wa[a] > 0 ? 2 * a : 2 * a + 1);
+  const Cluster& C = h.clusters[c];
+  const double binned = binned_area(C, w);
+  if (binned <= 0) return view;
+  if (C.axis_normals) {  // the bins are exact (the common case in buildings)
+    view.projected = binned;
+    for (int a = 0; a < 3; ++a) view.weight[a] = std::abs(wa[a]);
+    return view;
+  }
+  double lower = 0, upper = 0;
+  int budget = kProjectionBudget;
+  bound_projected_area(h, c, w, budget, lower, upper);
+  view.projected = 0.5 * (lower + upper);
+  view.uncertainty = 0.5 * (upper - lower);
+  for (int a = 0; a < 3; ++a) view.weight[a] = std::abs(wa[a]) * view.projected / binned;
+  return view;
+}
+
+ClusterTree build_cluster_tree(const ElementForest& forest) {
+  ClusterTree tree;
+  for (int root : forest.roots)
+    if (!forest.is_enclosed(root)) tree.root_order.push_back(root);
+  if (!tree.root_order.empty()) build_clusters(tree, forest, 0, static_cast<int>(tree.root_order.size()));
+  for (int root : tree.root_order) tree.ordered_roots.push_back({forest.elements[root].tri, forest.elements[root].normal});
+  table_cluster_samples(tree);
+  return tree;
+}
+
+bool box_in_front(const Bounds3& box, const Point3& o, const Vector3& n, double tol) {
+  for (int c = 0; c < 8; ++c) {
+    const Point3 p{c & 1 ? box.hi.x : box.lo.x, c & 2 ? box.hi.y : box.lo.y, c & 4 ? box.hi.z : box.lo.z};
+    if (dot(p - o, n) > tol) return true;
+  }
+  return false;
+}
+
+}  // namespace lambert::hierarchical

@@ -1,0 +1,77 @@
+// The clusters of the hierarchical method (Smits, Arvo & Greenberg 1994, "A clustering algorithm for
+// radiosity in complex environments"): a bounding-volume hierarchy over the roots of the element
+// forest, so that a group of far triangles sends (and receives) through one link and neither N²
+// factors nor N² pairs are ever formed.
+//
+// A cluster sends its radiant intensity I(ω) = Σ_k (ω·e_k)⁺ Φ_k / π, with Φ_k = Σ_j B_j A_j (n_j·e_k)⁺
+// its radiosity-weighted projected area on the six axis directions, scaled so that a cluster of
+// uniform radiosity sends exactly the area it shows, Σ_j A_j (n_j·ω)⁺ (found through the clusters'
+// normal cones: the bins alone overstate it up to √3 times wherever normals are not in ω's octant).
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include "solver/facet_bounds.h"
+#include "solver/hierarchical/elements.h"
+
+namespace lambert::hierarchical {
+
+// Its FacetBounds (box, bins, area vector, normal cone) cover its roots.
+struct Cluster : FacetBounds {
+  Point3 centre;
+  double radius = 0;
+  int child[2] = {-1, -1};   // clusters; both −1 for a BVH leaf
+  int root = -1;             // the root element of a BVH leaf
+  int first_root = 0, root_count = 0;  // range in ClusterTree::root_order
+  int samples = -1;          // its first kTabledClusterSamples in ClusterTree::cluster_samples, or −1
+  int slot = -1;             // a BVH leaf: its root's index in ElementForest::roots
+};
+
+inline constexpr int kTabledClusterSamples = 16;  // see ClusterTree::cluster_samples
+
+struct ClusterTree {
+  std::vector<Cluster> clusters;  // clusters[0] is the top; children come after their parent
+  std::vector<int> root_order;    // roots in BVH order (cluster ranges index into it)
+  // What a cluster's visibility samples need of its roots, in root_order: contiguous per cluster and
+  // a tenth of the elements' size, so the link rays' far ends do not miss the cache element by element.
+  struct RootSample {
+    Triangle tri;
+    Vector3 normal;
+  };
+  std::vector<RootSample> ordered_roots;
+  // A visibility sample of a cluster (cluster_sample): a point on one of its roots (not lifted) and the
+  // root's normal. The first kTabledClusterSamples of each cluster of more roots than that are kept
+  // together: drawn from ordered_roots, each ray of a cluster link missed the cache (a fifth of the
+  // link rays' set-up time in the city block), and the link rays use at most that many in most links.
+  struct ClusterSample {
+    Point3 point;
+    Vector3 normal;
+  };
+  std::vector<ClusterSample> cluster_samples;
+};
+
+// The tree over the roots of `forest` that are not wholly enclosed (median split on the longest
+// axis of the centroids), with its visibility samples.
+ClusterTree build_cluster_tree(const ElementForest& forest);
+
+// Visibility sample k (< kMaxVisibilitySamples) of a cluster: a stratified sample point of one of its
+// roots, the roots drawn spread over its BVH range.
+ClusterTree::ClusterSample cluster_sample(const ClusterTree& tree, const Cluster& C, int k);
+
+// How a link to cluster c from direction w (unit, from the cluster) reads its projected power Φ: the
+// three bins facing w, weighted so that a cluster of uniform radiosity B sends B × `projected` (the
+// area it shows, within ± `uncertainty`) rather than the bins' upper bound. Where the radiosity is
+// not uniform, the bins still tell the sides of the cluster apart.
+struct ClusterView {
+  std::array<unsigned char, 3> bin{};
+  std::array<double, 3> weight{};
+  double projected = 0;  // 0: every root faces away from w
+  double uncertainty = 0;
+};
+ClusterView cluster_view(const ClusterTree& tree, int c, const Vector3& w);
+
+// Whether some corner of `box` lies more than `tol` in front of the plane through o with normal n.
+bool box_in_front(const Bounds3& box, const Point3& o, const Vector3& n, double tol);
+
+}  // namespace lambert::hierarchical

@@ -1,0 +1,265 @@
+#include "solver/hierarchical/final_gather.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/combinable.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
+
+#include <algorithm>
+#include <atomic>
+
+namespace lambert::hierarchical {
+
+LeafGather::LeafGather(Hierarchy& h, const ExactVisibility& exact, const PlaneVerdicts& planes, std::span<const Triangle> inputs,
+           bool retrace, const AreaFactorOptions& near_field)
+    : h_(h), exact_(exact), planes_(planes), inputs_(inputs), retrace_(retrace), near_field_(near_field) {
+  const std::size_t E = h.elements.size();
+  leaves_below_.assign(E, 0);
+  for (std::size_t e = E; e-- > 0;) {  // children come after their parent
+    const Element& el = h.elements[e];
+    if (el.leaf >= 0) leaves_below_[e] = 1;
+    if (el.parent >= 0) leaves_below_[el.parent] += leaves_below_[e];
+  }
+  cluster_parent_.assign(h.clusters.size(), -1);
+  cluster_of_root_.assign(E, -1);
+  for (std::size_t c = 0; c < h.clusters.size(); ++c) {
+    const Cluster& C = h.clusters[c];
+    if (C.root >= 0) cluster_of_root_[C.root] = static_cast<int>(c);
+    else
+      for (int ch : C.child) cluster_parent_[ch] = static_cast<int>(c);
+  }
+}
+
+bool LeafGather::fits(std::size_t budget) {
+  cluster_link_expands_.assign(h_.cluster_links.size(), 0);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, h_.cluster_links.size(), 16), [&](const auto& range) {
+    for (std::size_t l = range.begin(); l != range.end(); ++l) cluster_link_expands_[l] = expands(h_.cluster_links[l]);
+  });
+  if (retrace_) {
+    mark_crowded_links();
+    for (std::size_t l = 0; l < h_.cluster_links.size(); ++l)
+      if (crowded_.cluster[l]) cluster_link_expands_[l] = 0;
+  }
+  std::size_t n = count();
+  if (n > budget && clustered_hidden_) {  // without the hidden links from and into clusters
+    clustered_hidden_ = false;
+    n = count();
+  }
+  return n > 0 && n <= budget;
+}
+
+LeafGatherStats LeafGather::run(const SolveControl& control) {
+  const std::size_t blocks = h_.root_block.size();
+  std::vector<std::vector<Link>> out(blocks);
+  tbb::combinable<LeafGatherStats> stats;
+  std::atomic<bool> stop{false};
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks, 1), [&](const auto& range) {
+    for (std::size_t r = range.begin(); r != range.end(); ++r) {
+      if (stop.load(std::memory_order_relaxed)) return;
+      if (control.cancelled()) {
+        stop = true;
+        return;
+      }
+      gather_block(r, out[r], stats.local());
+    }
+  });
+  control.check_cancel();
+  // Each block read only its own elements' links, so the expanded ones are marked once all are done.
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, h_.elements.size(), 1024), [&](const auto& range) {
+    for (std::size_t e = range.begin(); e != range.end(); ++e)
+      for (std::size_t l = h_.link_start[e]; l < h_.link_start[e + 1]; ++l)
+        if (expanded(h_.links[l], l, static_cast<int>(e))) h_.links[l].source = kReplaced;
+  });
+  merge_rechecked(h_.links, {});  // drops the expanded ones
+  // The leaf links, compact (LeafLink): blocks in element order, each receiver's links by source.
+  std::size_t total = 0;
+  for (const auto& block : out) total += block.size();
+  h_.leaf_links.clear();
+  h_.leaf_links.reserve(total);
+  h_.leaf_link_start.assign(h_.elements.size() + 1, 0);
+  for (auto& block : out) {
+    for (const Link& l : block) {
+      ++h_.leaf_link_start[l.receiver + 1];
+      h_.leaf_links.push_back({l.source, l.coeff[0], l.read_point()});
+    }
+    release(block);
+  }
+  for (std::size_t e = 0; e < h_.elements.size(); ++e) h_.leaf_link_start[e + 1] += h_.leaf_link_start[e];
+  release(h_.hidden_links);
+  release(h_.hidden_cluster_links);
+  std::size_t kept = 0;
+  for (std::size_t l = 0; l < h_.cluster_links.size(); ++l)
+    if (!cluster_link_expands_[l]) h_.cluster_links[kept++] = h_.cluster_links[l];
+  h_.cluster_links.resize(kept);
+  return stats.combine([](LeafGatherStats a, const LeafGatherStats& b) {
+    a.leaf_links += b.leaf_links, a.traced += b.traced, a.exact += b.exact;
+    return a;
+  });
+}
+
+std::size_t LeafGather::count() const {
+  std::size_t n = tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, h_.elements.size(), 1024), std::size_t{0},
+      [&](const auto& range, std::size_t sum) {
+        for (std::size_t e = range.begin(); e != range.end(); ++e) {
+          for (std::size_t l = h_.link_start[e]; l < h_.link_start[e + 1]; ++l)
+            if (expanded(h_.links[l], l, static_cast<int>(e)))
+              sum += leaves_below_[e] * sources_of(h_.links[l], l, static_cast<int>(e));
+          if (retrace_)
+            for (std::size_t l = h_.hidden_start[e]; l < h_.hidden_start[e + 1]; ++l)
+              sum += leaves_below_[e] * sources_of_hidden(l).size();
+        }
+        return sum;
+      },
+      std::plus<>());
+  for (std::size_t l = 0; l < h_.cluster_links.size(); ++l)
+    if (cluster_link_expands_[l])
+      n += cluster_leaves(h_.cluster_links[l].receiver) * roots_of(h_.cluster_links[l]);
+  if (retrace_ && clustered_hidden_)
+    for (std::size_t l = 0; l < h_.hidden_cluster_links.size(); ++l)
+      if (!crowded_.hidden_cluster[l])
+        n += cluster_leaves(h_.hidden_cluster_links[l].receiver) * roots_of(h_.hidden_cluster_links[l]);
+  return n;
+}
+
+std::span<const int> LeafGather::small_cluster(int c) const {
+  const Cluster& C = h_.clusters[c];
+  if (C.root_count > kExpandedClusterRoots) return {};
+  return {h_.root_order.data() + C.first_root, static_cast<std::size_t>(C.root_count)};
+}
+
+std::size_t LeafGather::sources_of(const Link& l, std::size_t index, int receiver) const {
+  const bool exact = retrace_ && !keeps_rays(index);
+  if (!l.from_cluster)
+    return exact || l.visibility() == LinkVisibility::ShaftClear || l.visibility() == LinkVisibility::RaysUnanimous || clear(receiver, l.source) ? 1 : 0;
+  const auto roots = small_cluster(l.source);
+  if (roots.empty()) return 0;
+  if (!exact)
+    for (int r : roots)
+      if (!clear(receiver, r)) return 0;
+  return roots.size();
+}
+
+std::span<const int> LeafGather::sources_of_hidden(std::size_t index) const {
+  const Link& l = h_.hidden_links[index];
+  if (crowded_.hidden[index]) return {};
+  if (!l.from_cluster) return {&l.source, 1};
+  return clustered_hidden_ ? small_cluster(l.source) : std::span<const int>{};
+}
+
+LinkVisibility LeafGather::verdict_of(const Link& l, std::size_t index) const {
+  return retrace_ && crowded_.link[index] && l.visibility() == LinkVisibility::RaysUnanimous ? LinkVisibility::RaysTrusted
+                                                                                               : l.visibility();
+}
+
+bool LeafGather::crowded(const Bounds3& receiver, const Bounds3& source) const {
+  Bounds3 box = receiver;
+  box.add(source.lo), box.add(source.hi);
+  return exact_.occluders_near_box(box) > kExactOccluders;
+}
+
+bool LeafGather::crowded(const Link& l) const {
+  return crowded(box_of(l.receiver), l.from_cluster ? h_.clusters[l.source].box : box_of(l.source));
+}
+
+bool LeafGather::crowded(const ClusterLink& l) const {
+  return crowded(h_.clusters[l.receiver].box, l.from_cluster ? h_.clusters[l.source].box : box_of(l.source));
+}
+
+std::size_t LeafGather::crowded_links() const {
+  const auto ones = [](const std::vector<char>& v) { return static_cast<std::size_t>(std::count(v.begin(), v.end(), 1)); };
+  return ones(crowded_.link) + ones(crowded_.hidden) + ones(crowded_.hidden_cluster) + ones(crowded_.cluster);
+}
+
+void LeafGather::mark_crowded_links() {
+  crowded_.link.assign(h_.links.size(), 0);
+  crowded_.hidden.assign(h_.hidden_links.size(), 0);
+  crowded_.hidden_cluster.assign(h_.hidden_cluster_links.size(), 0);
+  crowded_.cluster.assign(h_.cluster_links.size(), 0);
+  if (exact_.occluders() <= kSmallScene) return;
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, h_.elements.size(), 256), [&](const auto& range) {
+    for (std::size_t e = range.begin(); e != range.end(); ++e) {
+      for (std::size_t l = h_.link_start[e]; l < h_.link_start[e + 1]; ++l) {
+        const Link& link = h_.links[l];
+        if (!link.from_cluster && (link.visibility() == LinkVisibility::ShaftClear || clear(static_cast<int>(e), link.source))) continue;
+        crowded_.link[l] = crowded(link);
+      }
+      for (std::size_t l = h_.hidden_start[e]; l < h_.hidden_start[e + 1]; ++l) crowded_.hidden[l] = crowded(h_.hidden_links[l]);
+    }
+  });
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, h_.cluster_links.size(), 16), [&](const auto& range) {
+    for (std::size_t l = range.begin(); l != range.end(); ++l)
+      crowded_.cluster[l] = cluster_link_expands_[l] && crowded(h_.cluster_links[l]);
+  });
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, h_.hidden_cluster_links.size(), 16), [&](const auto& range) {
+    for (std::size_t l = range.begin(); l != range.end(); ++l) crowded_.hidden_cluster[l] = crowded(h_.hidden_cluster_links[l]);
+  });
+}
+
+bool LeafGather::expands(const ClusterLink& l) const {
+  std::array<int, 1> element{l.source};
+  const std::span<const int> sources = l.from_cluster ? small_cluster(l.source) : std::span<const int>(element);
+  if (sources.empty()) return false;
+  if (retrace_) return true;
+  const Cluster& R = h_.clusters[l.receiver];
+  if (static_cast<std::size_t>(R.root_count) * sources.size() > kMaxCheckedPairs) return false;
+  for (int k = R.first_root; k < R.first_root + R.root_count; ++k)
+    for (int s : sources)
+      if (!clear(h_.root_order[k], s)) return false;
+  return true;
+}
+
+std::size_t LeafGather::cluster_leaves(int c) const {
+  const Cluster& C = h_.clusters[c];
+  std::size_t n = 0;
+  for (int k = C.first_root; k < C.first_root + C.root_count; ++k) n += leaves_below_[h_.root_order[k]];
+  return n;
+}
+
+bool LeafGather::expanded(const Link& l, std::size_t index, int receiver) const {
+  if (sources_of(l, index, receiver) == 0) return false;
+  if (h_.elements[receiver].leaf < 0 || l.from_cluster) return true;
+  return retrace_ && !keeps_rays(index) && l.visibility() != LinkVisibility::ShaftClear && !clear(receiver, l.source);
+}
+
+void LeafGather::gather_block(std::size_t r, std::vector<Link>& out, LeafGatherStats& stats) const {
+  const auto [first, end] = h_.root_block[r];
+  // Expanded links into the clusters above this root: the same sources for all its leaves.
+  std::vector<Entry> from_cluster_links;
+  auto add_sources = [&](const ClusterLink& link) {
+    if (!link.from_cluster) from_cluster_links.push_back({link.source, LinkVisibility::Unknown});
+    for (int s : link.from_cluster ? small_cluster(link.source) : std::span<const int>{})
+      from_cluster_links.push_back({s, LinkVisibility::Unknown});
+  };
+  for (int c = cluster_of_root_[first]; c >= 0; c = cluster_parent_[c]) {
+    for (std::size_t l = h_.cluster_link_start[c]; l < h_.cluster_link_start[c + 1]; ++l)
+      if (cluster_link_expands_[l]) add_sources(h_.cluster_links[l]);
+    if (retrace_ && clustered_hidden_)
+      for (std::size_t l = h_.hidden_cluster_start[c]; l < h_.hidden_cluster_start[c + 1]; ++l)
+        if (!crowded_.hidden_cluster[l]) add_sources(h_.hidden_cluster_links[l]);
+  }
+  std::vector<Entry> entries;
+  std::vector<Link> row;
+  for (int e = first; e < end; ++e) {
+    if (h_.elements[e].leaf < 0 || h_.is_enclosed(e)) continue;
+    entries = from_cluster_links;
+    for (int p = e; p >= 0; p = h_.elements[p].parent) {
+      for (std::size_t l = h_.link_start[p]; l < h_.link_start[p + 1]; ++l) {
+        const Link& link = h_.links[l];
+        if (!expanded(link, l, p)) continue;
+        if (!link.from_cluster) entries.push_back({link.source, verdict_of(link, l)});
+        for (int s : link.from_cluster ? small_cluster(link.source) : std::span<const int>{})
+          entries.push_back({s, LinkVisibility::Unknown});
+      }
+      if (retrace_)
+        for (std::size_t l = h_.hidden_start[p]; l < h_.hidden_start[p + 1]; ++l)
+          for (int s : sources_of_hidden(l)) entries.push_back({s, LinkVisibility::Unknown});
+    }
+    row.clear();
+    gather_leaf(e, entries, row, stats);
+    std::sort(row.begin(), row.end(), link_order<Link>);
+    out.insert(out.end(), row.begin(), row.end());
+  }
+}
+
+}  // namespace lambert::hierarchical

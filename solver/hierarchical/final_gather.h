@@ -1,0 +1,229 @@
+// The final gather at the leaves of the hierarchical method.
+//
+// The refinement's links are estimates that the oracle lets err by its budget each: an element link
+// carries the kernel as a linear fit over its receiver, a cluster link a one-point estimate. In a row
+// those errors add up: the raw row sums of a closed convex 6 × 4 × 3 m room (17 408 patches, no ray
+// traced) missed 1 by 1.3 %, and with a floating cube by 2.1 %. Once the links are final, LeafGather
+// computes each leaf's share of the links above it exactly — the point-to-polygon kernel of the
+// source integrated over the leaf (the degree-5 rule where the source is more than kLeafFarField
+// leaf radii away, adaptive cubature nearer) — and replaces those links by the leaf links. Links from
+// clusters of at most kExpandedClusterRoots roots, and links into clusters from such sources, are
+// expanded the same way, to the clusters' roots. The refinement still decides which sources a leaf
+// gathers from, and those partition the scene: in a closed convex room the row sums become 1 to the
+// cubature's tolerance (1.3 % → 2e-6 in the room above).
+//
+// Visibility. By default only links whose visibility holds for every leaf below are expanded: the
+// refinement proved their shaft clear, or their rays were all unobstructed (the verdict the
+// refinement itself trusts), or the occluder planes separate nothing between the pair
+// (occluder_planes.h). Links found partly hidden stay as they are. With `retrace` (the scene's
+// solver.exact_visibility), every link is expanded, those found hidden too (LinkSet::hidden_links),
+// and each leaf link whose visibility is not proven is evaluated exactly, with no ray: the occluders
+// in the shaft between the leaf and the input triangle its source was cut from
+// (ExactVisibility::shaft_occluders; none: wholly visible), and at each node of the leaf's rule the
+// factor they hide (their shadow on that triangle's plane, ExactVisibility::Shadow). Links whose
+// pair's box holds too many occluders are crowded (mark_crowded_links): they stay as by default (the
+// partly hidden keep their rays' estimate, the hidden stay hidden, the unanimous are trusted), which
+// bounds the work where many occluders stand between many patches (a city block: 133 s, against
+// more than 15 minutes while every link was evaluated exactly). The raw closure error of the
+// room with a floating cube (18 176 patches): 2.1 % before the gather, 1.6 % after it by default (the
+// partly hidden links stay), 2e-6 with retrace, as in the room without the cube; with the leaf's own
+// 16 rays in place of the exact evaluation it was 7e-4 (rays that agreed by chance), and 1.7e-4 with
+// the leaf-wide rule in place of leaf_rule's pieces. Retrace costs about 1.6 × the time there.
+//
+// Memory and time grow with the leaf links, about 10 per expanded link in the rooms of
+// docs/BENCHMARKS.md; a scene whose leaf links would exceed the budget keeps its links.
+#pragma once
+
+#include <cstddef>
+#include <span>
+#include <utility>
+#include <vector>
+
+#include "solver/exact_visibility.h"
+#include "solver/form_factor.h"
+#include "solver/hierarchical/hierarchy.h"
+#include "solver/hierarchical/plane_verdicts.h"
+
+namespace lambert::hierarchical {
+
+inline constexpr double kLeafFarField = 4;        // the rule alone beyond this many leaf radii
+inline constexpr int kMaxCuttingPlanes = 3;       // planes that divide a leaf's rule (LeafGather::leaf_pieces)
+inline constexpr double kRuleTolerance = 1e-5;    // of a row, from its near sources (LeafGather::gather_leaf)
+inline constexpr int kRuleLevels = 3;             // times gather_leaf may split the pieces near them
+// With exact visibility, links near whose boxes lie more than kExactOccluders occluders, in a scene of
+// more than kSmallScene, keep their rays' estimate, as every link does by default
+// (LeafGather::mark_crowded_links): the exact gather projects each occluder at every node of every
+// leaf below, and across a city block (22 082 occluders), where such shafts hold hundreds, that was
+// more than 15 minutes of work for far links whose rays are accurate enough (133 s in all with
+// these limits, 31 s by default; 54 s with 32 occluders, whose results differ from these by 0.18 %
+// rms, 46 s with 24). A room with up to a few dozen floating boxes is gathered exactly everywhere.
+inline constexpr std::size_t kExactOccluders = 48;
+inline constexpr std::size_t kSmallScene = 256;
+inline constexpr double kRuleSplitDistance = kLeafFarField;  // pieces this near a near source are split (radii)
+// The budget of leaf links: at most this many per link of the refinement or per patch, whichever is
+// more, and kMaxLeafLinks in all (28 bytes each as the threads form them, copied block by block
+// into the 12-byte LeafLinks: 1.3 GB at most while they are copied, 0.4 GB after, beside the
+// refinement's links, which the 10⁶-patch scenes of docs/BENCHMARKS.md leave room for within 8 GiB;
+// 1.8 GB while the leaf links were merged into those).
+inline constexpr std::size_t kLeafLinksPerLink = 24;
+inline constexpr std::size_t kLeafLinksPerPatch = 1000;
+inline constexpr std::size_t kMaxLeafLinks = 32'000'000;
+inline constexpr std::size_t kMaxCheckedPairs = 1 << 16;     // root pairs a link into a cluster may check
+
+struct LeafGatherStats {
+  std::size_t leaf_links = 0;  // links formed at the leaves
+  std::size_t traced = 0;      // of which took the leaf's own rays (retrace)
+  std::size_t exact = 0;       // of which were partly visible, with the exact visible part (retrace)
+};
+
+
+class LeafGather {
+ public:
+  // inputs: the input triangles (Element::input), which ExactVisibility holds as its occluders.
+  LeafGather(Hierarchy& h, const ExactVisibility& exact, const PlaneVerdicts& planes, std::span<const Triangle> inputs,
+             bool retrace, const AreaFactorOptions& near_field);
+
+  // Whether there are leaf links to form, at most `budget` of them; where there would be more, the
+  // hidden links from and into clusters are left out first. Prepares run().
+  bool fits(std::size_t budget);
+
+  // Replaces the links that expand by leaf links (see above); the others stay. The links that expand
+  // are marked in place and dropped; the leaf links go to their own compact store
+  // (LinkSet::leaf_links), each block's as it is copied, so that they are held twice only a block
+  // at a time.
+  LeafGatherStats run(const SolveControl& control);
+
+ private:
+  // A source to expand for a leaf: an element, and what is known of its visibility from there.
+  struct Entry {
+    int source;
+    LinkVisibility verdict;
+  };
+
+  // The number of leaf links the gather would form (an upper bound: some turn out 0).
+  std::size_t count() const;
+
+  bool clear(int a, int b) const { return planes_.clear(a, b); }
+  // The roots of a cluster of at most kExpandedClusterRoots roots (none for a larger one).
+  std::span<const int> small_cluster(int c) const;
+  // How many element sources link l at `receiver` expands to (0: it stays as it is). Element links:
+  // 1; links from small clusters: their roots. With retrace, all of those; by default only where the
+  // visibility is certain for every leaf below (element links: its verdict, or the occluder planes;
+  // links from clusters, whose rays are cast to the cluster as a whole: the planes, root by root).
+  // Link l, h_.links[index] at `receiver`; with retrace, links whose shaft is crowded (keeps_rays)
+  // are treated as by default.
+  std::size_t sources_of(const Link& l, std::size_t index, int receiver) const;
+  // The element sources of h_.hidden_links[index], which the refinement's rays found hidden: its
+  // source, or the roots of a small cluster (links from larger ones are not kept:
+  // Refiner::keeps_hidden); none where its shaft is crowded (it stays hidden, as by default).
+  std::span<const int> sources_of_hidden(std::size_t index) const;
+  // The verdict a leaf takes from element link h_.links[index]: with retrace, rays found unanimous
+  // are trusted only where the shaft is crowded.
+  LinkVisibility verdict_of(const Link& l, std::size_t index) const;
+  bool keeps_rays(std::size_t index) const { return crowded_.link[index]; }
+
+  // With retrace, whether many occluders may stand between a link's two ends: more than
+  // kExactOccluders near the box of its receiver and source, which holds its shaft
+  // (ExactVisibility::occluders_near_box, constant time: a city block has 31 M links and hidden
+  // links, which took 20–60 µs each to count by their shafts). A link's box holds more than its shaft
+  // does (the box of a link along a street takes in the buildings beside it).
+  Bounds3 box_of(int element) const { return bounds(h_.elements[element].tri); }
+  bool crowded(const Bounds3& receiver, const Bounds3& source) const;
+  bool crowded(const Link& l) const;
+  bool crowded(const ClusterLink& l) const;
+
+ public:
+  // How many links (refinement links and links into clusters, and those found hidden) keep their
+  // rays' estimate or stay hidden, their shafts crowded (with retrace; 0 otherwise).
+  std::size_t crowded_links() const;
+
+ private:
+  // With retrace: which links are crowded, among those that the gather would evaluate exactly (the
+  // others' visibility is proven). In a scene of at most kSmallScene occluders, none.
+  void mark_crowded_links();
+  std::size_t roots_of(const ClusterLink& l) const { return l.from_cluster ? small_cluster(l.source).size() : 1; }
+  bool expands(const ClusterLink& l) const;
+  std::size_t cluster_leaves(int c) const;
+
+  // Whether link l at `receiver` is replaced by leaf links: it expands, unless it is a leaf's own
+  // element link, which is a leaf link already (the refiner gave it the exact mean over the leaf) —
+  // with retrace, one whose visibility is not proven is formed again, its visibility evaluated.
+  bool expanded(const Link& l, std::size_t index, int receiver) const;
+
+  // The leaf links of root block r, in element order, each leaf's sorted by source.
+  void gather_block(std::size_t r, std::vector<Link>& out, LeafGatherStats& stats) const;
+
+  // The rule a leaf's links are integrated with (weights summing to 1): the degree-5 rule on the
+  // leaf; with retrace, on the pieces into which the planes of the sources that cut the leaf divide
+  // it. The exact visible factors at the nodes of one rule sum to 1 over a closed scene, so a row
+  // closes as well as its links' exact means (exchange_area: near and cut sources) agree with the
+  // rule; across a cutting plane the kernel has a kink that a leaf-wide rule misses (1.7e-4 of the
+  // row at the cube room's leaves cut by the cube's faces' planes), and on the pieces there is none.
+  // cut[k]: whether the plane of entries[k]'s source cuts the leaf (front_part), computed once by the caller.
+  void leaf_pieces(const Element& L, const std::vector<Entry>& entries, const std::vector<char>& cut,
+                   std::vector<Triangle>& pieces) const;
+  // Whether p lies within `reach` of element S (distance_to_triangle), the sphere about S first: most
+  // sources of a row are far beyond it. (A margin of 1e-9 keeps the verdict the distance's own.)
+  static bool within(const Point3& p, const Element& S, double reach);
+  // The degree-5 rule on each piece, weighted by its share of the leaf.
+  static void leaf_rule(const Element& L, const std::vector<Triangle>& pieces, std::vector<Point3>& nodes,
+                        std::vector<double>& weights);
+
+  // Splits 1:4 the pieces nearer one of the `near` sources than kRuleSplitDistance of their radius.
+  // Returns whether any was split.
+  static bool split_near(std::vector<Triangle>& pieces, std::span<const Triangle* const> near);
+
+  // The leaf links of leaf element e from `entries`, appended to `row`.
+  //
+  // A near source's link takes its exact mean (exchange_area) times the visible fraction that the rule
+  // finds; every other link, the rule's mean. The visible factors at a node sum to 1 over a closed
+  // scene, so the row misses 1 by Σ v (F − F_rule) over the near sources, F_rule being the rule's mean
+  // of their unoccluded factors and v their visible fractions. With retrace, the rule is refined
+  // where that sum exceeds kRuleTolerance (the pieces near a near source split 1:4, at most
+  // kRuleLevels times) and the links formed again: a floor leaf whose corner touches a crate's corner
+  // missed 1.8e-3 of its row with the leaf-wide rule, 2.4e-5 after two splits. Over an adjacent wall
+  // the near sources' errors cancel (their union's factor is smooth over the leaf), so few leaves
+  // are refined: 36 of 3 204 in the L-shaped room of tools/l_room_furnace.py.
+  void gather_leaf(int e, const std::vector<Entry>& entries, std::vector<Link>& row, LeafGatherStats& stats) const;
+
+  // The links of leaf e for the rule (nodes, weights), appended to `row` (those found hidden with
+  // source kReplaced), and each one's entry to `row_entry`.
+  void form_links(int e, const std::vector<Entry>& entries, const std::vector<char>& usable,
+                  const std::vector<double>& near_F, std::span<const Point3> node_span, std::span<const double> weights,
+                  std::vector<Link>& row, std::vector<int>& row_entry, LeafGatherStats& stats) const;
+
+  // The links of a leaf whose visibility it evaluates itself, and what form_links computed for them.
+  struct Pending {
+    const Element* leaf = nullptr;
+    std::span<const Point3> nodes;
+    std::span<const double> weights;
+    std::vector<std::pair<int, int>> links;  // each one's index into the row, and its row of f (or −1)
+    std::vector<double> f;                   // unoccluded factors at the nodes, [row of f][node]
+  };
+  // The visible part of every pending link of a leaf, exactly (leaf_visibility.cpp).
+  void evaluate_pending(Pending& pending, std::vector<Link>& row, LeafGatherStats& stats) const;
+  // The pending links [first, last) (sorted by input triangle, root, source), whose sources lie in
+  // `carrier`, past the occluders in the shaft between the leaf and the carrier.
+  void evaluate_carrier(Pending& pending, std::vector<Link>& row, const Triangle& carrier, int level,
+                        std::size_t first, std::size_t last, LeafGatherStats& stats) const;
+
+  Hierarchy& h_;
+  const ExactVisibility& exact_;
+  const PlaneVerdicts& planes_;
+  std::span<const Triangle> inputs_;
+  bool retrace_;
+  bool clustered_hidden_ = true;  // the hidden links from and into clusters are expanded (fits())
+  AreaFactorOptions near_field_;
+  std::vector<std::size_t> leaves_below_;     // per element
+  std::vector<int> cluster_parent_;           // per cluster, −1 for the top
+  std::vector<int> cluster_of_root_;          // per element: the BVH leaf of a root, else −1
+  std::vector<char> cluster_link_expands_;    // per cluster link
+  // With retrace, per link of h_.links, h_.hidden_links, h_.hidden_cluster_links and
+  // h_.cluster_links: 1 where it is crowded (mark_crowded_links), so that it keeps its rays'
+  // estimate (or stays hidden).
+  struct Crowded {
+    std::vector<char> link, hidden, hidden_cluster, cluster;
+  } crowded_;
+};
+
+}  // namespace lambert::hierarchical

@@ -1,0 +1,65 @@
+#include "solver/hierarchical/oracle.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace lambert::hierarchical {
+
+OracleRadiosity oracle_radiosity(const Hierarchy& h, const SpectralSystems& systems,
+                                 const std::vector<Hemisphere>& hemisphere, const std::vector<char>& shoots,
+                                 bool with_ambient) {
+  const std::size_t N = h.leaves.size(), K = systems.size();
+  std::vector<double> leaf_B(N, 0.0);
+  double power = 0, area = 0, rho_mean = 0;
+  auto largest_rho = [&](std::size_t i) {
+    double r = 0;
+    for (std::size_t k = 0; k < K; ++k) r = std::max(r, std::abs(systems.reflectance(k, i)));
+    return r;
+  };
+  for (std::size_t i = 0; i < N; ++i) {
+    if (hemisphere[i] == Hemisphere::Enclosed) continue;  // neither part of the scene's power nor of its area
+    for (std::size_t k = 0; k < K; ++k) leaf_B[i] = std::max(leaf_B[i], std::abs(systems.radiosity(k, i)));
+    const double A = h.elements[h.leaves[i]].area;
+    power += A * leaf_B[i];
+    area += A;
+    rho_mean += A * std::min(largest_rho(i), 0.95);
+  }
+  if (with_ambient && area > 0) {
+    // Unlit reflectors will receive about the mean interreflected irradiance.
+    rho_mean /= area;
+    const double ambient = power / area / (1 - rho_mean);
+    for (std::size_t i = 0; i < N; ++i) leaf_B[i] = std::max(leaf_B[i], largest_rho(i) * ambient);
+  }
+  // Black leaves as sources, where closed rows are known: the balance scales closed rows to 1 by
+  // their sums, which include the links from black leaves. With their B of 0 the oracle would leave
+  // those links as coarse as a cluster (in a black room lit by its floor the row sums missed 1 by
+  // 20 %, and the floor's part moved with them). They are refined as if they sent the scene's mean
+  // radiosity, from the first round on: pairs that the first round drops as within the budget
+  // (B = 0 passes any test) are not found again.
+  if (area > 0 && std::find(hemisphere.begin(), hemisphere.end(), Hemisphere::Closed) != hemisphere.end())
+    for (std::size_t i = 0; i < N; ++i)
+      if (!shoots[i]) leaf_B[i] = power / area;
+  for (std::size_t i = 0; i < N; ++i)
+    if (hemisphere[i] == Hemisphere::Enclosed) leaf_B[i] = 0;
+  return {std::move(leaf_B), power};
+}
+
+OracleValues oracle_values(const Hierarchy& h, const std::vector<double>& leaf_B) {
+  OracleValues out;
+  Hierarchy::Values v;
+  h.pull({leaf_B.data()}, v);
+  out.element_B = std::move(v.B);
+  std::vector<double> root_max(h.elements.size(), 0.0);  // the largest leaf of each root's tree
+  for (std::size_t i = 0; i < h.leaves.size(); ++i) {
+    double& m = root_max[h.elements[h.leaves[i]].root];
+    m = std::max(m, leaf_B[i]);
+  }
+  out.cluster_B.assign(h.clusters.size(), 0.0);
+  for (std::size_t c = h.clusters.size(); c-- > 0;) {
+    const Cluster& cl = h.clusters[c];
+    out.cluster_B[c] = cl.root >= 0 ? root_max[cl.root] : std::max(out.cluster_B[cl.child[0]], out.cluster_B[cl.child[1]]);
+  }
+  return out;
+}
+
+}  // namespace lambert::hierarchical

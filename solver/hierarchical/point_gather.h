@@ -1,0 +1,48 @@
+// The hierarchical method's gather at a point (a probe): a traversal of the hierarchy from the top
+// cluster, taking a cluster or element whole where the error of doing so is within a tolerance, and
+// descending into it otherwise.
+//
+// A cluster is taken whole where its radiosity times the solid angle it may show is within the
+// tolerance (its intensity from the bins, clusters.h); an element where its radiosity varies little
+// over it and it is wholly visible or wholly hidden; a leaf always. The tolerance is a tenth of
+// solver.accuracy times the scene's mean radiosity per unit of projected solid angle.
+#pragma once
+
+#include <vector>
+
+#include "solver/hierarchical/hierarchy.h"
+#include "solver/hierarchical/plane_verdicts.h"
+#include "solver/pipeline/transport_operator.h"
+
+namespace lambert::hierarchical {
+
+class HierarchicalPointGather final : public PointGather {
+ public:
+  // B: K radiosity vectors over the leaves.
+  HierarchicalPointGather(const Hierarchy& h, const PlaneVerdicts& planes, const Visibility& vis,
+                          const std::vector<const double*>& B, double accuracy);
+  void gather_at_point(const Receiver& receiver, double* E) const override;
+
+ private:
+  // The visible fraction of element S (node `node`) from the receiver: 1 where the occluder planes
+  // say so; otherwise rays to the element's samples, 16 before the first vote (as for links: four
+  // unanimous rays to a coarse element miss small occluders).
+  double element_visibility(const Receiver& r, const Point3& from, const OccluderPlanes::Sides& sides, int node) const;
+  // Adds element `node`'s share to E, or pushes its children where it must be opened.
+  void visit_element(const Receiver& r, const Point3& from, const OccluderPlanes::Sides& sides, int node,
+                     std::vector<int>& stack, double* E) const;
+  // The same for cluster c.
+  void visit_cluster(const Receiver& r, const Point3& from, const OccluderPlanes::Sides& sides, int c,
+                     std::vector<int>& stack, double* E) const;
+
+  const Hierarchy& h_;
+  const PlaneVerdicts& planes_;
+  const Visibility& vis_;
+  Hierarchy::Values values_;  // per element and cluster, every system
+  // Per element: the subtree's least and largest radiosity over the systems, which decide how deep a
+  // point must look into it; per cluster: its largest |B|.
+  std::vector<double> lo_, hi_, cluster_B_;
+  double tolerance_ = 0;  // what a taken node may err by, per unit of projected solid angle (× B)
+};
+
+}  // namespace lambert::hierarchical
