@@ -92,8 +92,8 @@ Balanced balance(Hierarchy& h, BalanceState& state, const std::vector<Hemisphere
   // Stops at convergence, or when ten sweeps have not cut the error tenfold (leaves partly inside
   // solids, whose rows and columns are free, can make the balance crawl: it would cost sweeps, not
   // accuracy). Healthy sweeps gain 10⁴ in ten, plain or over-relaxed. Over-relaxed sweeps do keep
-  // crawling down, at about 0.8 a sweep, where plain ones stall. Halving in ten sweeps was not enough:
-  // a lit room of 984 320 patches spent 100 sweeps a round, 320 s of its 861.
+  // crawling down, at about 0.8 a sweep, where plain ones stall; a rule that asks only for halving in
+  // ten sweeps lets a lit room of 984 320 patches spend 100 sweeps a round.
   double best = 1e300, best_ten_ago = 1e300;
   std::vector<double> errors;  // of the sweeps since ω last changed
   for (int sweep = 0; sweep < kMaxBalanceSweeps; ++sweep) {

@@ -23,12 +23,12 @@
 // factor they hide (their shadow on that triangle's plane, ExactVisibility::Shadow). Links whose
 // pair's box holds too many occluders are crowded (mark_crowded_links): they stay as by default (the
 // partly hidden keep their rays' estimate, the hidden stay hidden, the unanimous are trusted), which
-// bounds the work where many occluders stand between many patches (a city block: 133 s, against
-// more than 15 minutes while every link was evaluated exactly). The raw closure error of the
-// room with a floating cube (18 176 patches): 2.1 % before the gather, 1.6 % after it by default (the
-// partly hidden links stay), 2e-6 with retrace, as in the room without the cube; with the leaf's own
-// 16 rays in place of the exact evaluation it was 7e-4 (rays that agreed by chance), and 1.7e-4 with
-// the leaf-wide rule in place of leaf_rule's pieces. Retrace costs about 1.6 × the time there.
+// bounds the work where many occluders stand between many patches (a city block: 133 s, where
+// evaluating every link exactly takes more than 15 minutes). The raw closure error of the room with a
+// floating cube (18 176 patches): 2.1 % before the gather, 1.6 % after it by default (the partly
+// hidden links stay), 2e-6 with retrace, as in the room without the cube; the leaf's own 16 rays in
+// place of the exact evaluation leave 7e-4 (rays that agree by chance), and the leaf-wide rule in
+// place of leaf_rule's pieces 1.7e-4. Retrace costs about 1.6 × the time there.
 //
 // Memory and time grow with the leaf links, about 10 per expanded link in the rooms of
 // docs/BENCHMARKS.md; a scene whose leaf links would exceed the budget keeps its links.
@@ -63,8 +63,7 @@ inline constexpr double kRuleSplitDistance = kLeafFarField;  // pieces this near
 // The budget of leaf links: at most this many per link of the refinement or per patch, whichever is
 // more, and kMaxLeafLinks in all (28 bytes each as the threads form them, copied block by block
 // into the 12-byte LeafLinks: 1.3 GB at most while they are copied, 0.4 GB after, beside the
-// refinement's links, which the 10⁶-patch scenes of docs/BENCHMARKS.md leave room for within 8 GiB;
-// 1.8 GB while the leaf links were merged into those).
+// refinement's links, which the 10⁶-patch scenes of docs/BENCHMARKS.md leave room for within 8 GiB).
 inline constexpr std::size_t kLeafLinksPerLink = 24;
 inline constexpr std::size_t kLeafLinksPerPatch = 1000;
 inline constexpr std::size_t kMaxLeafLinks = 32'000'000;

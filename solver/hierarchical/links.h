@@ -147,9 +147,9 @@ void release(std::vector<T>& v) {
 }
 // The links one thread finds, in blocks of 64 MiB. glibc maps blocks this large on their own (its
 // mmap threshold is at most 32 MiB) and returns them to the system when they are freed, so take_sorted
-// frees each block as soon as it is copied. In one growing vector per thread, the vector's doublings
-// copied the links while they were being found (1.6–1.9 GB bumps at 167 M links), and the first
-// round's sort copied each thread's vector whole while it was still held (+2.2 GB).
+// frees each block as soon as it is copied. A growing vector per thread would copy the links as it
+// doubles, and be copied whole by the sort while still held (docs/BENCHMARKS.md: gigabytes at 167 M
+// links).
 template <class L>
 class LinkBlocks {
  public:
@@ -212,10 +212,9 @@ std::vector<L> take_sorted(tbb::enumerable_thread_specific<LinkBatch>& found, Li
 }
 
 // The links of the next round: those a recheck kept stay where they are, in order, and the sorted
-// replacements are merged in from the back. Rebuilding the whole set each round held the links twice
-// (the previous round's and the threads' copies): 14.0 GB at peak for 167 M links, where one copy is
-// 4.7 GB. Now the only extra memory is the replacements, a few per cent of the links after the first
-// round. (A merge that outgrows the vector's reserve reallocates, as before.)
+// replacements are merged in from the back, so that the only extra memory is the replacements (a few
+// per cent of the links after the first round), where a rebuild would hold the links twice. (A merge
+// that outgrows the vector's reserve reallocates.)
 template <class L>
 void merge_rechecked(std::vector<L>& links, std::vector<L> fresh) {
   links.erase(std::remove_if(links.begin(), links.end(), [](const L& l) { return l.source == kReplaced; }),
