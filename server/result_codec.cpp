@@ -119,6 +119,7 @@ void write_result(std::ostream& os, const Scene& scene, const Solution& sol, con
     const auto& E = sol.probes[k].irradiance;
     json j;
     j["name"] = probe.name;
+    j["quantity"] = quantity_name(probe.quantity);
     if (!probe.is_grid) {
       j["position"] = point_json(probe.points[0], scene.unit_m);
       j["irradiance"] = spectrum_json(E.data(), W);

@@ -3,7 +3,14 @@
 
 #include <stdexcept>
 
+#include "solver/receiver_kernel.h"
+
 namespace lambert {
+
+double LightModel::receiver_factor(const Receiver& receiver, const Visibility& vis) const {
+  if (receiver.kind == Receiver::Kind::Planar) return point_factor(receiver.point, receiver.normal, vis);
+  return receiver_by_planes(receiver, [&](const Vector3& n) { return point_factor(receiver.point, n, vis); });
+}
 
 std::unique_ptr<LightModel> make_light_model(const Light& light, const LightContext&) {
   if (const auto* a = std::get_if<AmbientLight>(&light)) return make_ambient_light(*a);

@@ -5,8 +5,9 @@
 //   - directional and ambient light: S = irradiance [W m^-2 nm^-1], g dimensionless;
 //   - a Phong-lobed emitting patch: S = exitance R(λ) [W m^-2 nm^-1], g dimensionless;
 //   - a sky: S = its zenith radiance L_z(λ) [W m^-2 sr^-1 nm^-1], g in sr.
-// Measures: point_factor is per unit area at a point; patch_factor is the area average over a
-// triangle (the flux onto it per unit S, divided by its area); flux_factor is the flux the source
+// Measures: point_factor is per unit area at a point; receiver_factor is the mean over a receiver's
+// surface at a point (solver/receiver.h: g = ∫ S-normalised radiance × w(ω) dω); patch_factor is the
+// area average over a triangle (the flux onto it per unit S, divided by its area); flux_factor is the flux the source
 // emits per unit S (sr for intensity sources, m² for an emitting patch).
 #pragma once
 
@@ -16,6 +17,7 @@
 #include <vector>
 
 #include "mesh/geometry.h"
+#include "solver/receiver.h"
 #include "solver/scene.h"
 #include "solver/solids.h"
 #include "solver/visibility.h"
@@ -34,6 +36,14 @@ class LightModel {
 
   // g at p, shadowed with rays where the model says so (a probe).
   virtual double point_factor(const Point3& p, const Vector3& n, const Visibility& vis) const = 0;
+
+  // g for a receiver (planar, cylindrical, semicylindrical, hemispherical), shadowed as point_factor:
+  // the light's weight w(ω) over its directions. A planar receiver gives point_factor. By default
+  // the planar decomposition (receiver_by_planes, solver/receiver_kernel.h: point_factor over the
+  // receiver's normals, integrated), exact for any light but costing hundreds to thousands of
+  // point_factor calls; the models with a closed form (point-like, directional, ambient, Phong
+  // emitter) override it.
+  virtual double receiver_factor(const Receiver& receiver, const Visibility& vis) const;
 
   // Area average of g over triangle t (front side counter-clockwise), times the kernel-weighted visible
   // fraction of the source seen from t.

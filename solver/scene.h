@@ -86,12 +86,32 @@ struct SkyLight {
 };
 using Light = std::variant<AmbientLight, DirectionalLight, PointLight>;
 
+// What a probe measures (SPEC §5 "quantity", solver/receiver.h): planar (the default) and vertical
+// are the illuminance of a plane facing `normal` (vertical names the check, with `normal` usually
+// horizontal); cylindrical and hemispherical the mean over the curved surface of a small vertical
+// cylinder (axis `normal`) or hemisphere (pole `normal`); semicylindrical over a half cylinder (axis
+// `normal`) facing `facing`.
+enum class ProbeQuantity { Planar, Vertical, Cylindrical, Semicylindrical, Hemispherical };
+// The quantity's name in the scene and the result ("planar", "cylindrical", ...).
+inline const char* quantity_name(ProbeQuantity q) {
+  switch (q) {
+    case ProbeQuantity::Planar: return "planar";
+    case ProbeQuantity::Vertical: return "vertical";
+    case ProbeQuantity::Cylindrical: return "cylindrical";
+    case ProbeQuantity::Semicylindrical: return "semicylindrical";
+    case ProbeQuantity::Hemispherical: return "hemispherical";
+  }
+  return "planar";
+}
+
 struct Probe {
   std::string name;
   std::vector<Point3> points;       // one point, or nu*nv grid points (u fastest)
   Vector3 normal;                   // unit
   bool is_grid = false;
   int nu = 1, nv = 1;
+  ProbeQuantity quantity = ProbeQuantity::Planar;
+  Vector3 facing;                   // unit, perpendicular to normal: semicylindrical only
 };
 
 struct MeshingOptions {

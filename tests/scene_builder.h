@@ -47,7 +47,11 @@ class SceneBuilder {
     scene_.light_pointers.push_back("/lights/" + std::to_string(scene_.lights.size() - 1));
   }
   void probe(const std::string& name, const Point3& p, const Vector3& n) {
-    scene_.probes.push_back(Probe{name, {p}, n, false, 1, 1});
+    Probe probe;
+    probe.name = name;
+    probe.points = {p};
+    probe.normal = n;
+    scene_.probes.push_back(std::move(probe));
   }
   void max_patch_area(double a) { scene_.meshing.max_patch_area_m2 = a; }
   Scene& scene() { return scene_; }

@@ -535,6 +535,40 @@ TEST(SceneCodecErrors, ZeroLengthProbeNormal) {
                        "/probes/0/normal", "zero vector"));
 }
 
+TEST(SceneCodec, ProbeQuantities) {
+  auto s = decode_ok(scene_with(R"("probes": [
+      {"position": [0, 1, 0], "normal": [0, 1, 0]},
+      {"position": [0, 1, 0], "normal": [1, 0, 0], "quantity": "vertical"},
+      {"position": [0, 1, 0], "normal": [0, 2, 0], "quantity": "cylindrical"},
+      {"position": [0, 1, 0], "normal": [0, 1, 0], "quantity": "semicylindrical", "facing": [0, 0, -3]},
+      {"grid": {"origin": [0, 1, 0], "u": [1, 0, 0], "v": [0, 0, 1], "nu": 2, "nv": 2}, "normal": [0, 1, 0],
+       "quantity": "hemispherical"}])"));
+  ASSERT_TRUE(s);
+  ASSERT_EQ(s->probes.size(), 5u);
+  EXPECT_EQ(s->probes[0].quantity, ProbeQuantity::Planar);  // the default
+  EXPECT_EQ(s->probes[1].quantity, ProbeQuantity::Vertical);
+  EXPECT_EQ(s->probes[2].quantity, ProbeQuantity::Cylindrical);
+  EXPECT_DOUBLE_EQ(s->probes[2].normal.y, 1.0);  // the axis, normalised
+  EXPECT_EQ(s->probes[3].quantity, ProbeQuantity::Semicylindrical);
+  EXPECT_DOUBLE_EQ(s->probes[3].facing.z, -1.0);  // normalised
+  EXPECT_EQ(s->probes[4].quantity, ProbeQuantity::Hemispherical);
+  EXPECT_EQ(s->probes[4].points.size(), 4u);
+}
+
+TEST(SceneCodecErrors, ProbeQuantities) {
+  EXPECT_TRUE(HasError(scene_with(R"("probes": [{"position": [0, 1, 0], "normal": [0, 1, 0], "quantity": "cylindric"}])"),
+                       "/probes/0/quantity", "did you mean 'cylindrical'?"));
+  EXPECT_TRUE(HasError(scene_with(R"("probes": [{"position": [0, 1, 0], "normal": [0, 1, 0], "quantity": 3}])"),
+                       "/probes/0/quantity", "expected a string"));
+  EXPECT_TRUE(HasError(scene_with(R"("probes": [{"position": [0, 1, 0], "normal": [0, 1, 0], "quantity": "semicylindrical"}])"),
+                       "/probes/0", "needs facing"));
+  EXPECT_TRUE(HasError(scene_with(R"("probes": [{"position": [0, 1, 0], "normal": [0, 1, 0], "quantity": "semicylindrical",
+                                                 "facing": [1, 0.01, 0]}])"),
+                       "/probes/0/facing", "must be perpendicular to normal"));
+  EXPECT_TRUE(HasError(scene_with(R"("probes": [{"position": [0, 1, 0], "normal": [0, 1, 0], "facing": [1, 0, 0]}])"),
+                       "/probes/0/facing", "semicylindrical probes only"));
+}
+
 TEST(SceneCodecErrors, HugeCoordinate) {
   EXPECT_TRUE(HasError(scene_with_surfaces(R"({"material": "white", "polygon": [[0,0,0], [1e300,0,1], [1,0,1]]})"),
                        "/surfaces/0/polygon/1/0", "beyond the coordinate limit"));

@@ -1,6 +1,9 @@
-// "probes" (SPEC §1): irradiance sensors at one point or on a grid of cell centres, each with the
-// normal of the plane it measures on.
+// "probes" (SPEC §1, §5): irradiance sensors at one point or on a grid of cell centres, each with the
+// quantity it measures (planar by default: the plane facing `normal`; vertical, cylindrical,
+// semicylindrical, hemispherical) and the directions that quantity needs.
+#include <array>
 #include <map>
+#include <string_view>
 #include <utility>
 
 #include "server/codec/sections.h"
@@ -54,10 +57,56 @@ bool decode_grid_points(Decoder& d, const json& jg, const std::string& pg, bool 
   return true;
 }
 
+constexpr std::array<std::pair<std::string_view, ProbeQuantity>, 5> kQuantities = {
+    {{"planar", ProbeQuantity::Planar},
+     {"vertical", ProbeQuantity::Vertical},
+     {"cylindrical", ProbeQuantity::Cylindrical},
+     {"semicylindrical", ProbeQuantity::Semicylindrical},
+     {"hemispherical", ProbeQuantity::Hemispherical}}};
+
+// "quantity" and, for a semicylinder, "facing" (perpendicular to the axis `normal`, within 1e-6 in
+// cosine: a direction is not silently projected); false after an error.
+bool decode_quantity(Decoder& d, const json& j, const std::string& p, Probe& probe, bool normal_ok) {
+  if (const json* jq = d.member(j, "quantity")) {
+    const auto name = d.string(*jq, p + "/quantity");
+    if (!name) return false;
+    bool known = false;
+    for (const auto& [word, quantity] : kQuantities)
+      if (*name == word) probe.quantity = quantity, known = true;
+    if (!known) {
+      std::vector<std::string_view> words;
+      for (const auto& entry : kQuantities) words.push_back(entry.first);
+      d.error(p + "/quantity", "unknown quantity " + quote_text(*name) + " (expected " + join(words, " or ") + ")" +
+                                   suggestion(*name, words));
+      return false;
+    }
+  }
+  const json* jf = d.member(j, "facing");
+  if (probe.quantity != ProbeQuantity::Semicylindrical) {
+    if (jf) d.error(p + "/facing", "facing applies to semicylindrical probes only");
+    return !jf;
+  }
+  if (!jf) {
+    d.error(p, "a semicylindrical probe needs facing (the direction the half cylinder faces, perpendicular to "
+               "normal, its axis)");
+    return false;
+  }
+  const auto f = d.direction(*jf, p + "/facing");
+  if (!f || !normal_ok) return false;
+  const double c = dot(*f, probe.normal);
+  if (std::abs(c) > 1e-6) {
+    d.error(p + "/facing", "must be perpendicular to normal (the cylinder's axis); they make " +
+                               num(std::acos(std::clamp(c, -1.0, 1.0)) / kDegree) + "°");
+    return false;
+  }
+  probe.facing = *f;
+  return true;
+}
+
 void decode_probe(Decoder& d, const json& j, std::size_t i,
                   std::map<std::string, std::string>& names) {
   const std::string p = index_ptr("/probes", i);
-  if (!d.object(j, p, {"name", "position", "grid", "normal"})) return;
+  if (!d.object(j, p, {"name", "position", "grid", "normal", "quantity", "facing"})) return;
   Probe probe;
   probe.name = d.unique_name(j, p, "probe" + std::to_string(i), names, "probe");
   bool ok = true;
@@ -68,6 +117,7 @@ void decode_probe(Decoder& d, const json& j, std::size_t i,
   } else {
     ok = false;
   }
+  if (!decode_quantity(d, j, p, probe, ok)) ok = false;
   const json* jp = d.member(j, "position");
   const json* jg = d.member(j, "grid");
   if (jp && jg) {

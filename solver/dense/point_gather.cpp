@@ -4,6 +4,7 @@
 #include <utility>
 
 #include "solver/form_factor.h"
+#include "solver/receiver_kernel.h"
 #include "solver/solids.h"
 #include "solver/visible_fraction.h"
 
@@ -12,15 +13,26 @@ namespace {
 
 constexpr int kProbeRays = 3 + 16;  // the corners and the interior samples
 
-// The candidates' unoccluded factors (patch, factor > 0) replaced by the visible ones.
-void visible_point_triangle_factors(const Point3& p, const Vector3& n, const std::vector<Patch>& patches,
+// The exact factor of the part of `source` the receiver sees: for a planar receiver the contour
+// integral over the visible part (ExactVisibility::visible_factor, with its shortcuts for a single
+// occluder or convex solid), for the others the shared kernel over the visible part's loops.
+double exact_visible_factor(const Receiver& r, const Triangle& source, const ExactVisibility& exact) {
+  if (r.kind == Receiver::Kind::Planar) return exact.visible_factor(r.point, r.normal, source);
+  const Vector3 n = source.normal();
+  return receiver_region_factor(r, exact.visible_region(r.point, region_normal(r, n), source), n);
+}
+
+// The candidates' unoccluded factors (patch, factor > 0) replaced by the visible ones. A planar
+// receiver on a surface is lifted off it along its normal; the others stand in free space.
+void visible_point_triangle_factors(const Receiver& receiver, const std::vector<Patch>& patches,
                                     std::vector<std::pair<std::size_t, double>>& candidates, const Visibility& vis,
                                     const OccluderPlanes& planes, const std::vector<OccluderPlanes::Sides>& sides,
                                     const ExactVisibility& exact) {
   thread_local std::vector<Segment> rays;
   thread_local std::vector<std::uint8_t> visible;
   thread_local std::vector<std::size_t> traced;  // candidates whose rays are in the stream
-  const Point3 from = vis.lift(p, n);
+  const Point3& p = receiver.point;
+  const Point3 from = receiver.kind == Receiver::Kind::Planar ? vis.lift(p, receiver.normal) : p;
   const Point3 point[1] = {p};
   const OccluderPlanes::Sides point_sides = planes.sides(point);
   rays.clear(), traced.clear();
@@ -45,7 +57,7 @@ void visible_point_triangle_factors(const Point3& p, const Vector3& n, const std
         static_cast<int>(std::count(visible.begin() + r * kProbeRays, visible.begin() + (r + 1) * kProbeRays, 1));
     double& factor = candidates[c].second;
     if (seen == kProbeRays) continue;
-    factor = seen == 0 ? 0.0 : exact.visible_factor(p, n, patch.triangle);
+    factor = seen == 0 ? 0.0 : exact_visible_factor(receiver, patch.triangle, exact);
   }
 }
 
@@ -64,16 +76,14 @@ DensePointGather::DensePointGather(const Scene& scene, const std::vector<Patch>&
 }
 
 void DensePointGather::gather_at_point(const Receiver& receiver, double* E) const {
-  const Point3& p = receiver.point;
-  const Vector3& n = receiver.normal;
   thread_local std::vector<std::pair<std::size_t, double>> seen;  // (patch, visible point-to-patch factor)
   seen.clear();
   for (std::size_t j = 0; j < patches_.size(); ++j) {
     if (!radiates_[j]) continue;
-    const double f = point_triangle_factor(p, n, patches_[j].triangle);
+    const double f = receiver_triangle_factor(receiver, patches_[j].triangle);
     if (f > 0) seen.emplace_back(j, f);
   }
-  visible_point_triangle_factors(p, n, patches_, seen, vis_, planes_, sides_, *exact_);
+  visible_point_triangle_factors(receiver, patches_, seen, vis_, planes_, sides_, *exact_);
   const std::size_t K = B_.size();
   for (std::size_t k = 0; k < K; ++k) E[k] = 0;
   for (const auto& [j, fv] : seen)

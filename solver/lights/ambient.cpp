@@ -1,5 +1,7 @@
 // Ambient light (SPEC §1): E = E_a on every surface, whatever its orientation or position, and never
-// shadowed. g = 1; the flux it brings depends on the scene it falls on (flux_factor 0).
+// shadowed. g = 1, for every receiver too: an irradiance E_a on every plane whatever its normal is a
+// uniform radiance E_a/π, and each receiver's weight integrates to π over the sphere (receiver.h:
+// ∫ sin θ dω = π², ∫ (1 + n·ω)/4 dω = π). The flux it brings depends on the scene it falls on (flux_factor 0).
 #include "solver/light_model.h"
 
 namespace lambert {
@@ -11,6 +13,7 @@ class AmbientLightModel final : public LightModel {
   const std::vector<double>& spectrum() const override { return light_.irradiance_W_m2_nm; }
   double unshadowed_factor(const Point3&, const Vector3&) const override { return 1; }
   double point_factor(const Point3&, const Vector3&, const Visibility&) const override { return 1; }
+  double receiver_factor(const Receiver&, const Visibility&) const override { return 1; }
   double patch_factor(const Triangle&, const Visibility&) const override { return 1; }
   double flux_factor() const override { return 0; }
   std::string_view kind() const override { return "ambient"; }

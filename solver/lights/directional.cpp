@@ -1,5 +1,5 @@
 // Directional (parallel) light (SPEC §1): E = E_q max(0, cos α), with E_q the irradiance on a plane
-// perpendicular to the beam; shadowed by rays towards the light that leave the scene.
+// perpendicular to the beam (a receiver: E_q w(−direction), receiver.h); shadowed by rays towards the light that leave the scene.
 #include <algorithm>
 
 #include "solver/light_model.h"
@@ -20,6 +20,11 @@ class DirectionalLightModel final : public LightModel {
   double point_factor(const Point3& p, const Vector3& n, const Visibility& vis) const override {
     const double g = unshadowed_factor(p, n);
     return g != 0 && vis.visible(p, p + reach(vis)) ? g : 0;
+  }
+
+  double receiver_factor(const Receiver& r, const Visibility& vis) const override {
+    const double g = receiver_weight(r, -light_.direction);
+    return g != 0 && vis.visible(r.point, r.point + reach(vis)) ? g : 0;
   }
 
   // cos α is constant over a planar patch: the average is cos α times the visible fraction.

@@ -81,6 +81,27 @@ class PhongEmitterModel final : public LightModel {
                    [&](const Point3&, const Point3& q) { return kernel(q, p, n); });
   }
 
+  // A receiver that is not planar sees the whole emitter (its weight w ≥ 0 in every direction): the
+  // cone integral of cos^{n−1} ψ w(ω) over it, rays weighted by cos^n ψ w(ω) / r².
+  double receiver_factor(const Receiver& r, const Visibility& vis) const override {
+    if (r.kind == Receiver::Kind::Planar) return point_factor(r.point, r.normal, vis);
+    const Point3& p = r.point;
+    if (dot(p - emitter_.v[0], lobe_.axis) <= 0) return 0;
+    const ConeLobe seen_from_p{-lobe_.axis, lobe_.exponent - 1, kPi / 2};
+    const double g = normalisation() * cone_integral(p, seen_from_p, emitter_.v,
+                                                     [&](const Vector3& w) { return receiver_weight(r, w); });
+    if (!(g > 0)) return 0;
+    return g * weighted_visible_fraction(
+                   vis, [&](int k) { return std::pair{p, visibility_sample(emitter_, k)}; },
+                   [&](const Point3&, const Point3& q) {
+                     const Vector3 d = p - q;
+                     const double r2 = length_squared(d);
+                     if (r2 == 0) return 0.0;
+                     const double dist = std::sqrt(r2);
+                     return cone_lobe_value(lobe_, dot(lobe_.axis, d) / dist) * receiver_weight(r, -d / dist) / r2;
+                   });
+  }
+
   double patch_factor(const Triangle& t, const Visibility& vis) const override {
     const Vector3 nt = t.normal();
     if (!any_in_front(emitter_, lobe_.axis, t) || !any_in_front(t, nt, emitter_) || beyond_lobe(t)) return 0;

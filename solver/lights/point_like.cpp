@@ -6,91 +6,16 @@
 #include <cmath>
 #include <queue>
 
+#include "solver/quadrature_1d.h"
 #include "solver/visible_fraction.h"
 
 namespace lambert {
 namespace {
 
+using quadrature::integrate_1d;
+using quadrature::Interval;
+
 constexpr int kMaxPolygon = 8;
-
-// ---- adaptive Gauss–Kronrod (G7–K15, QUADPACK's qk15 nodes) over a list of breakpoints ----------
-
-constexpr std::array<double, 8> kXgk = {
-    0.991455371120812639206854697526329, 0.949107912342758524526189684047851,
-    0.864864423359769072789712788640926, 0.741531185599394439863864773280788,
-    0.586087235467691130294144845693013, 0.405845151377397166906606412076961,
-    0.207784955007898467600689403773245, 0.0};
-constexpr std::array<double, 8> kWgk = {
-    0.022935322010529224963732008058970, 0.063092092629978553290700663189204,
-    0.104790010322250183839876322541518, 0.140653259715525918745189590510238,
-    0.169004726639267902826583426598550, 0.190350578064785409913256402421014,
-    0.204432940075298892414161999234649, 0.209482141084727828012999174891714};
-// Gauss weights of the 7-point rule, whose nodes are kXgk[1], kXgk[3], kXgk[5], kXgk[7].
-constexpr std::array<double, 4> kWg = {0.129484966168869693270611432679082, 0.279705391489276667901467771423780,
-                                       0.381830050505118944950369775488975, 0.417959183673469387755102040816327};
-
-struct Piece {
-  double a, b, value, error;
-  bool operator<(const Piece& o) const { return error < o.error; }  // max-heap on the error
-};
-
-// K15 on [a, b] with QUADPACK's error estimate: |K15 − G7| scaled by the integrand's variation
-// (resasc), ((200 |K − G| / resasc)^1.5), which is realistic for smooth integrands instead of the
-// very pessimistic |K − G| (QUADPACK qk15; Piessens et al. 1983, §2.2.1).
-template <class F>
-Piece gauss_kronrod(F& f, double a, double b) {
-  const double c = 0.5 * (a + b), h = 0.5 * (b - a);
-  std::array<double, 15> fx;
-  fx[7] = f(c);
-  for (int j = 0; j < 7; ++j) {
-    fx[j] = f(c - h * kXgk[j]);
-    fx[14 - j] = f(c + h * kXgk[j]);
-  }
-  double kronrod = kWgk[7] * fx[7], gauss = kWg[3] * fx[7];
-  for (int j = 0; j < 7; ++j) {
-    const double s = fx[j] + fx[14 - j];
-    kronrod += kWgk[j] * s;
-    if (j % 2 == 1) gauss += kWg[j / 2] * s;
-  }
-  const double mean = 0.5 * kronrod;
-  double resasc = kWgk[7] * std::abs(fx[7] - mean);
-  for (int j = 0; j < 7; ++j) resasc += kWgk[j] * (std::abs(fx[j] - mean) + std::abs(fx[14 - j] - mean));
-  resasc *= std::abs(h);
-  double error = std::abs((kronrod - gauss) * h);
-  if (resasc != 0 && error != 0) error = resasc * std::min(1.0, std::pow(200 * error / resasc, 1.5));
-  return {a, b, kronrod * h, error};
-}
-
-using Interval = std::pair<double, double>;
-
-// ∫ f over the union of disjoint intervals, bisecting the piece with the largest error estimate
-// (QUADPACK's QAG strategy) until the total estimate is below rel_tolerance × |integral|.
-template <class F>
-double integrate_1d(F&& f, std::span<const Interval> intervals, double rel_tolerance, int max_pieces) {
-  std::priority_queue<Piece> heap;
-  double value = 0, error = 0;
-  for (const auto& [a, b] : intervals) {
-    if (!(b > a)) continue;
-    const Piece p = gauss_kronrod(f, a, b);
-    value += p.value;
-    error += p.error;
-    heap.push(p);
-  }
-  int pieces = static_cast<int>(heap.size());
-  while (!heap.empty() && error > rel_tolerance * std::abs(value) && error > 1e-300 && pieces < max_pieces) {
-    const Piece worst = heap.top();
-    heap.pop();
-    const double mid = 0.5 * (worst.a + worst.b);
-    if (!(mid > worst.a && mid < worst.b)) break;  // interval exhausted at double precision
-    const Piece left = gauss_kronrod(f, worst.a, mid), right = gauss_kronrod(f, mid, worst.b);
-    value += left.value + right.value - worst.value;
-    error += left.error + right.error - worst.error;
-    heap.push(left);
-    heap.push(right);
-    ++pieces;
-  }
-  return value;
-}
 
 // ln cos ψ, accurate near ψ = 0 (where cos ψ rounds to 1) and near π/2.
 double log_cos(double psi) {
@@ -335,6 +260,18 @@ double PointLikeLight::unshadowed_factor(const Point3& p, const Vector3& n) cons
 double PointLikeLight::point_factor(const Point3& p, const Vector3& n, const Visibility& vis) const {
   const double g = unshadowed_factor(p, n);
   return g != 0 && vis.visible(p, light_.position) ? g : 0;
+}
+
+double PointLikeLight::receiver_factor(const Receiver& r, const Visibility& vis) const {
+  if (r.kind == Receiver::Kind::Planar) return point_factor(r.point, r.normal, vis);
+  const Vector3 d = r.point - light_.position;
+  const double dist = length(d);
+  if (dist == 0) return 0;  // receiver at the source: no defined direction, measure zero
+  const Attenuation& c = light_.attenuation;
+  const double att = light_.inverse_square ? dist * dist : c.c1 + c.c2 * dist + c.c3 * dist * dist;
+  if (!(att > 0)) return 0;
+  const double g = cone_lobe_value(lobe_, dot(lobe_.axis, d) / dist) * receiver_weight(r, -d / dist) / att;
+  return g != 0 && vis.visible(r.point, light_.position) ? g : 0;
 }
 
 double PointLikeLight::patch_factor(const Triangle& t, const Visibility& vis) const {

@@ -65,6 +65,9 @@ class PointLikeLight : public LightModel {
   const std::vector<double>& spectrum() const final { return light_.intensity_W_sr_nm; }
   double unshadowed_factor(const Point3& p, const Vector3& n) const final;
   double point_factor(const Point3& p, const Vector3& n, const Visibility& vis) const final;
+  // I(ψ) w(ω) / att(r), ω towards the source (receiver.h): for a cylinder about a,
+  // E_z = I sin ε / (π d²) with ε the angle between the light's direction and the axis.
+  double receiver_factor(const Receiver& receiver, const Visibility& vis) const final;
   double patch_factor(const Triangle& t, const Visibility& vis) const final;
   std::string_view kind() const final {
     switch (light_.kind) {

@@ -7,6 +7,18 @@
 
 namespace lambert {
 
+Receiver probe_receiver(const Probe& probe, const Point3& point) {
+  Receiver r{Receiver::Kind::Planar, point, probe.normal, probe.facing};
+  switch (probe.quantity) {
+    case ProbeQuantity::Planar:
+    case ProbeQuantity::Vertical: break;
+    case ProbeQuantity::Cylindrical: r.kind = Receiver::Kind::Cylindrical; break;
+    case ProbeQuantity::Semicylindrical: r.kind = Receiver::Kind::Semicylindrical; break;
+    case ProbeQuantity::Hemispherical: r.kind = Receiver::Kind::Hemispherical; break;
+  }
+  return r;
+}
+
 void solve_probes(Solution& sol, const Scene& scene, const DirectLight& light, const SpectralSystems& systems,
                   const SystemFields& fields, const TransportOperator* op, const Visibility& vis,
                   const SolveControl& control) {
@@ -30,14 +42,14 @@ void solve_probes(Solution& sol, const Scene& scene, const DirectLight& light, c
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, P, 1), [&](const auto& range) {
       std::vector<double> E(K, 0.0);
       for (std::size_t q = range.begin(); q != range.end(); ++q) {
-        const Receiver receiver{Receiver::Kind::Planar, probe.points[q], probe.normal};
+        const Receiver receiver = probe_receiver(probe, probe.points[q]);
         if (gather) gather->gather_at_point(receiver, E.data());
         for (std::size_t set = 0; set < sets; ++set) {
           double* e = &irradiance(set, k)[q * W];
           for (std::size_t w = 0; w < W; ++w) e[w] = E[systems.system_of(set, w)];
         }
         for (std::size_t s = 0; s < light.sources.size(); ++s) {
-          const double g = light.sources[s]->point_factor(probe.points[q], probe.normal, vis);
+          const double g = light.sources[s]->receiver_factor(receiver, vis);
           if (g == 0) continue;
           const auto& S = light.sources[s]->spectrum();
           double* e = &sol.probes[k].irradiance[q * W];
