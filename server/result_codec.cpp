@@ -6,6 +6,7 @@
 #include <sstream>
 #include <nlohmann/json.hpp>
 
+#include "server/evaluation_codec.h"
 #include "solver/rgb_model.h"
 
 namespace lambert {
@@ -157,6 +158,7 @@ void write_result(std::ostream& os, const Scene& scene, const Solution& sol, con
     probes.push_back(std::move(j));
   }
   out["probes"] = std::move(probes);
+  write_evaluations(out, scene, sol, report);
 
   if (!sol.contributions.empty()) {
     json sources = json::array();

@@ -60,8 +60,8 @@ DecodeResult walk(Decoder& d, const json& doc) {
     return d.reject();
   }
   d.unknown_keys(doc, "", {"lambert", "name", "description", "units", "spectrum", "materials",
-                           "surfaces", "lights", "probes", "meshing", "solver", "output",
-                           "expected"});
+                           "surfaces", "lights", "probes", "task_summary", "glare", "meshing", "solver",
+                           "output", "expected"});
   decode_version(d, doc);
   if (const json* v = d.member(doc, "name"))
     if (auto s = d.string(*v, "/name")) d.scene().name = *s;
@@ -73,6 +73,7 @@ DecodeResult walk(Decoder& d, const json& doc) {
   codec::decode_lights(d, doc);
   codec::decode_probes(d, doc);
   codec::decode_options(d, doc);
+  codec::decode_evaluations(d, doc);
   // Reference values for tests (scenes_test); the solver ignores them, but they must be an object.
   if (const json* v = d.member(doc, "expected"); v && !v->is_object())
     d.error("/expected", "expected an object, got " + codec::a_type(*v));

@@ -41,8 +41,12 @@ struct Emission {
   double lobe_exponent = 1.0;
 };
 
+// What a surface is in a room (SPEC §5 "role"): the task-area summary's walls, ceiling and floor.
+enum class SurfaceRole { None, Wall, Ceiling, Floor };
+
 struct Surface {
   std::string name;
+  SurfaceRole role = SurfaceRole::None;
   int material = 0;                 // index into Scene::materials
   TriangleMesh mesh;                // metres; counter-clockwise = front (lit) side
   std::optional<Emission> emission;
@@ -114,6 +118,21 @@ struct Probe {
   Vector3 facing;                   // unit, perpendicular to normal: semicylindrical only
 };
 
+// The task-area summary (SPEC §5 "task_summary", solver/task_summary.h): EN 12464-1's checks of
+// named grids and of the room's walls and ceiling.
+struct TaskSummaryOptions {
+  double maintenance_factor = 1;  // in (0, 1]: multiplies every illuminance of the summary
+  std::optional<Vector3> up;      // unit: the orientation rule's up, where no surface has a role
+  std::vector<int> grids;         // indices into Scene::probes (grid probes), in the order given
+};
+
+// An observer of the glare evaluation (SPEC §5 "glare", solver/glare.h).
+struct GlareObserver {
+  std::string name;
+  Point3 position;                // metres: the eye
+  Vector3 view, up;               // unit; up perpendicular to view (the codec makes it so)
+};
+
 struct MeshingOptions {
   std::optional<double> max_patch_area_m2;  // absent: chosen from the scene's size
   bool adaptive = false;
@@ -161,6 +180,8 @@ struct Scene {
   std::vector<Light> lights;
   std::vector<std::string> light_pointers;  // JSON pointer per light, for messages
   std::vector<Probe> probes;
+  std::optional<TaskSummaryOptions> task_summary;
+  std::vector<GlareObserver> glare;
   MeshingOptions meshing;
   SolverOptions solver;
   OutputOptions output;

@@ -569,6 +569,45 @@ TEST(SceneCodecErrors, ProbeQuantities) {
                        "/probes/0/facing", "semicylindrical probes only"));
 }
 
+TEST(SceneCodec, TaskSummaryAndGlare) {
+  auto s = decode_ok(scene_with_surfaces(
+      R"({"material": "white", "role": "wall", "polygon": [[0,0,0], [0,0,1], [1,0,1], [1,0,0]]})",
+      R"("probes": [{"name": "desk", "grid": {"origin": [0, 1, 0], "u": [1, 0, 0], "v": [0, 0, 1], "nu": 2, "nv": 2},
+                     "normal": [0, 1, 0]},
+                    {"name": "point", "position": [0, 1, 0], "normal": [0, 1, 0]}],
+         "task_summary": {"maintenance_factor": 0.8},
+         "glare": [{"name": "desk", "position": [0, 1200, 0], "view": [1, 0, 0], "up": [1, 2, 0]}],
+         "units": "mm")"));
+  ASSERT_TRUE(s);
+  EXPECT_EQ(s->surfaces[0].role, SurfaceRole::Wall);
+  ASSERT_TRUE(s->task_summary);
+  EXPECT_EQ(s->task_summary->maintenance_factor, 0.8);
+  ASSERT_EQ(s->task_summary->grids.size(), 1u);  // every grid probe by default, not the point
+  EXPECT_EQ(s->task_summary->grids[0], 0);
+  ASSERT_EQ(s->glare.size(), 1u);
+  EXPECT_DOUBLE_EQ(s->glare[0].position.y, 1.2);  // metres
+  EXPECT_DOUBLE_EQ(s->glare[0].up.y, 1.0);        // the part of up across the view
+  EXPECT_DOUBLE_EQ(s->glare[0].up.x, 0.0);
+}
+
+TEST(SceneCodecErrors, TaskSummaryAndGlare) {
+  const std::string probes = R"("probes": [{"name": "desk", "grid": {"origin": [0, 1, 0], "u": [1, 0, 0], "v": [0, 0, 1],
+                                "nu": 2, "nv": 2}, "normal": [0, 1, 0]}, {"name": "dot", "position": [0, 1, 0], "normal": [0, 1, 0]}])";
+  EXPECT_TRUE(HasError(scene_with(probes + R"(, "task_summary": {"grids": ["dsek"]})"), "/task_summary/grids/0",
+                       "did you mean 'desk'?"));
+  EXPECT_TRUE(HasError(scene_with(probes + R"(, "task_summary": {"grids": ["dot"], "up": [0, 1, 0]})"),
+                       "/task_summary/grids/0", "is a point, not a grid"));
+  EXPECT_TRUE(HasError(scene_with(probes + R"(, "task_summary": {})"), "/task_summary", "no surface has a role"));
+  EXPECT_TRUE(HasError(scene_with(probes + R"(, "task_summary": {"up": [0, 1, 0], "maintenance_factor": 1.2})"),
+                       "/task_summary/maintenance_factor", "outside"));
+  EXPECT_TRUE(HasError(scene_with_surfaces(R"({"material": "white", "role": "wal", "polygon": [[0,0,0], [0,0,1], [1,0,1]]})"),
+                       "/surfaces/0/role", "did you mean 'wall'?"));
+  EXPECT_TRUE(HasError(scene_with(R"("glare": [{"position": [0, 1, 0], "view": [1, 0, 0], "up": [2, 0, 0]}])"),
+                       "/glare/0/up", "parallel to view"));
+  EXPECT_TRUE(HasError(scene_with(R"("glare": [{"position": [0, 1, 0], "up": [0, 1, 0]}])"), "/glare/0",
+                       "view"));
+}
+
 TEST(SceneCodecErrors, HugeCoordinate) {
   EXPECT_TRUE(HasError(scene_with_surfaces(R"({"material": "white", "polygon": [[0,0,0], [1e300,0,1], [1,0,1]]})"),
                        "/surfaces/0/polygon/1/0", "beyond the coordinate limit"));

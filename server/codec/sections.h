@@ -12,5 +12,6 @@ void decode_surfaces(Decoder& d, const json& doc);   // surfaces.cpp (needs the 
 void decode_lights(Decoder& d, const json& doc);     // lights/dispatch.cpp
 void decode_probes(Decoder& d, const json& doc);     // probes.cpp
 void decode_options(Decoder& d, const json& doc);    // options.cpp: meshing, solver, output
+void decode_evaluations(Decoder& d, const json& doc);  // evaluation.cpp: task_summary, glare (needs the probes)
 
 }  // namespace lambert::codec

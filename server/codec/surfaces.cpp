@@ -315,10 +315,22 @@ int material_of(Decoder& d, const json& j, const std::string& p) {
   return 0;
 }
 
+// "role": what the surface is in a room, for the task-area summary (solver/task_summary.h).
+SurfaceRole decode_role(Decoder& d, const json& j, const std::string& p) {
+  const auto s = d.string(j, p);
+  if (!s) return SurfaceRole::None;
+  if (*s == "wall") return SurfaceRole::Wall;
+  if (*s == "ceiling") return SurfaceRole::Ceiling;
+  if (*s == "floor") return SurfaceRole::Floor;
+  const std::vector<std::string_view> roles = {"wall", "ceiling", "floor"};
+  d.error(p, "unknown role " + quote_text(*s) + " (expected wall, ceiling or floor)" + suggestion(*s, roles));
+  return SurfaceRole::None;
+}
+
 void decode_surface(Decoder& d, const json& j, std::size_t i,
                     std::map<std::string, std::string>& names) {
   const std::string p = index_ptr("/surfaces", i);
-  if (!d.object(j, p, {"name", "material", "polygon", "mesh", "file", "transform", "emission"}))
+  if (!d.object(j, p, {"name", "material", "polygon", "mesh", "file", "transform", "emission", "role"}))
     return;
   Surface surface;
   surface.pointer = p;
@@ -332,6 +344,7 @@ void decode_surface(Decoder& d, const json& j, std::size_t i,
   }
   if (const json* e = d.member(j, "emission"))
     surface.emission = decode_emission(d, *e, p + "/emission", area_m2);
+  if (const json* r = d.member(j, "role")) surface.role = decode_role(d, *r, p + "/role");
   d.scene().surfaces.push_back(std::move(surface));
 }
 
