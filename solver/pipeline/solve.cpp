@@ -66,8 +66,8 @@ Solution solve_dense_adaptive(const Scene& scene, const SolveControl& control) {
   return sol;
 }
 
-// The hierarchical method's gather at a point takes planar receivers only (its probes are still its
-// own, solver/hierarchical.cpp): a non-planar quantity is refused rather than answered as planar.
+// The hierarchical method's gather at a point (solver/hierarchical/point_gather.cpp) takes planar
+// receivers only: a non-planar quantity is refused rather than answered as planar.
 void check_hierarchical_receivers(const Scene& scene) {
   for (std::size_t k = 0; k < scene.probes.size(); ++k) {
     const ProbeQuantity q = scene.probes[k].quantity;
