@@ -26,6 +26,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "server/cache_key.h"
 #include "server/result_views.h"
 
 #ifndef LAMBERT_VERSION
@@ -105,6 +106,7 @@ json status_json(const JobStatus& s) {
   if (s.expires) j["expires"] = rfc3339(*s.expires);
   if (s.state == JobState::Failed) j["error"] = s.error;
   if (s.state == JobState::Done) j["result_url"] = job_url(s.id) + "/result";
+  if (s.cached) j["cached"] = true;
   j["status_url"] = job_url(s.id);
   return j;
 }
@@ -496,7 +498,7 @@ void HttpServer::Impl::post_solve(const httplib::Request& req, httplib::Response
                "too many synchronous solves in progress; retry later or use POST /v1/jobs");
     return;
   }
-  SyncOutcome outcome = jobs.solve_now(body, "");
+  SyncOutcome outcome = jobs.solve_now(body, scene_cache_key(body, LAMBERT_VERSION));
   sync_waiters.fetch_sub(1);
   if (auto* r = std::get_if<JobResult>(&outcome)) {
     res.status = 200;
@@ -516,7 +518,7 @@ void HttpServer::Impl::post_job(const httplib::Request& req, httplib::Response& 
   if (read_body(req, res, reader, body) == Body::Sent) return;
   auto scene = decode(body, res);
   if (!scene) return;
-  SubmitOutcome outcome = jobs.submit(body, "");
+  SubmitOutcome outcome = jobs.submit(body, scene_cache_key(body, LAMBERT_VERSION));
   if (auto* s = std::get_if<JobStatus>(&outcome)) {
     json j = status_json(*s);
     res.set_header("Location", job_url(s->id));
