@@ -17,7 +17,10 @@
 #include <atomic>
 #include <charconv>
 #include <condition_variable>
+#include <cmath>
 #include <ctime>
+#include <map>
+#include <optional>
 #include <iostream>
 #include <list>
 #include <mutex>
@@ -27,6 +30,8 @@
 #include <nlohmann/json.hpp>
 
 #include "server/cache_key.h"
+#include "server/log.h"
+#include "server/metrics.h"
 #include "server/result_views.h"
 
 #ifndef LAMBERT_VERSION
@@ -65,6 +70,9 @@ FileAccess http_file_access(const std::optional<std::filesystem::path>& mesh_roo
 namespace {
 
 using json = nlohmann::json;
+
+// When the request this thread serves arrived (set before routing, read by the request's log line).
+thread_local std::optional<std::chrono::steady_clock::time_point> request_start;
 
 // ---- responses ----------------------------------------------------------------------------------
 
@@ -214,6 +222,7 @@ std::vector<Route> make_routes() {
                                route("/v1/jobs/*", {"GET", "DELETE"}),
                                route("/v1/jobs/*/result", {"GET"}),
                                route("/v1/health", {"GET"}),
+                               route("/v1/metrics", {"GET"}),
                                route("/v1/openapi.json", {"GET"}),
                                route("/v1/schema/scene.json", {"GET"})};
   for (const ResultView& view : result_views()) routes.push_back(route("/v1/jobs/*/" + view.file, {"GET"}));
@@ -265,6 +274,8 @@ struct HttpServer::Impl {
   const std::size_t max_sync_waiters;
   std::atomic<std::size_t> sync_waiters{0};
   int listen_fd = -1;  // the listening socket, once bound
+  std::mutex responses_mutex;
+  std::map<int, std::uint64_t> responses;  // by status code, for GET /v1/metrics
 
   void install();
 
@@ -281,6 +292,8 @@ struct HttpServer::Impl {
   void get_result(const httplib::Request& req, httplib::Response& res, const ResultView* view = nullptr);
   void delete_job(const httplib::Request& req, httplib::Response& res, const httplib::ContentReader& reader);
   void health(httplib::Response& res);
+  void metrics(httplib::Response& res);
+  void log_request(const httplib::Request& req, const httplib::Response& res);
 
   void queue_full(httplib::Response& res, std::size_t queue_size, const std::string& what) {
     res.set_header("Retry-After", std::to_string(options.retry_after_s));
@@ -331,6 +344,7 @@ void HttpServer::Impl::install() {
   // 404 for unknown paths and 405 (with Allow) for known paths with another method, decided before
   // any body is read.
   server.set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
+    request_start = std::chrono::steady_clock::now();
     for (const Route& route : routes) {
       if (!route_matches(route, req.path)) continue;
       const bool allowed =
@@ -379,11 +393,7 @@ void HttpServer::Impl::install() {
     send_error(res, 500, "internal", "internal server error (details are in the server log)");
   });
 
-  if (options.access_log)
-    server.set_logger([](const httplib::Request& req, const httplib::Response& res) {
-      std::cerr << req.remote_addr << " " << req.method << " " << req.path << " " << res.status << " "
-                << res.body.size() << "\n";
-    });
+  server.set_logger([this](const httplib::Request& req, const httplib::Response& res) { log_request(req, res); });
 
   server.Post("/v1/solve", [this](const httplib::Request& req, httplib::Response& res,
                                   const httplib::ContentReader& reader) { post_solve(req, res, reader); });
@@ -401,6 +411,7 @@ void HttpServer::Impl::install() {
     server.Get(R"(/v1/jobs/([^/]+)/)" + escape_dots(view.file),
                [this, &view](const httplib::Request& req, httplib::Response& res) { get_result(req, res, &view); });
   server.Get("/v1/health", [this](const httplib::Request&, httplib::Response& res) { health(res); });
+  server.Get("/v1/metrics", [this](const httplib::Request&, httplib::Response& res) { metrics(res); });
   server.Get("/v1/openapi.json", [](const httplib::Request&, httplib::Response& res) {
     res.set_content(openapi_document(), kJsonType);
   });
@@ -592,6 +603,39 @@ void HttpServer::Impl::health(httplib::Response& res) {
              {"workers", c.workers},
              {"jobs", {{"queued", c.store.queued}, {"running", c.store.running + c.sync_running}, {"stored", c.store.stored()}}},
              {"queue_size", c.queue_size}});
+}
+
+}  // namespace lambert
+
+namespace lambert {
+
+void HttpServer::Impl::metrics(httplib::Response& res) {
+  MetricsSnapshot m = jobs.metrics();
+  m.version = LAMBERT_VERSION;
+  {
+    std::lock_guard lock(responses_mutex);
+    m.http_responses = responses;
+  }
+  res.status = 200;
+  res.set_content(prometheus_text(m), kPrometheusMediaType);
+}
+
+// Counts every response for GET /v1/metrics and, with --access-log, writes its log line.
+void HttpServer::Impl::log_request(const httplib::Request& req, const httplib::Response& res) {
+  {
+    std::lock_guard lock(responses_mutex);
+    ++responses[res.status];
+  }
+  std::optional<double> ms;
+  if (request_start)
+    ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - *request_start).count();
+  request_start.reset();
+  if (!options.access_log) return;
+  json line = {{"event", "request"}, {"remote", req.remote_addr}, {"method", req.method}, {"path", req.path},
+               {"status", res.status}, {"bytes", res.body.size()}};
+  if (ms) line["ms"] = std::round(*ms * 1000) / 1000;
+  if (req.matches.size() > 1 && JobStore::is_valid_id(req.matches[1])) line["job"] = req.matches[1].str();
+  log_json(line);
 }
 
 }  // namespace lambert

@@ -2,8 +2,8 @@
 // http_server.cpp; this header does not expose it.
 //
 // Routes: POST /v1/solve, POST /v1/jobs, GET|DELETE /v1/jobs/{id}, GET /v1/jobs/{id}/result,
-// GET /v1/health, GET /v1/openapi.json, GET /v1/schema/scene.json (docs/openapi.json is the full
-// contract). Every error is {"error": {"code", "message", "pointer"}}; handler exceptions become a
+// GET /v1/health, GET /v1/metrics (Prometheus text, server/metrics.h), GET /v1/openapi.json,
+// GET /v1/schema/scene.json (docs/openapi.json is the full contract). Every error is {"error": {"code", "message", "pointer"}}; handler exceptions become a
 // 500 without their text.
 #pragma once
 
@@ -25,7 +25,7 @@ struct HttpServerOptions {
   int read_timeout_s = 30, write_timeout_s = 30;  // per socket read/write, not per request
   int keep_alive_timeout_s = 5;
   int retry_after_s = 5;                        // advertised with 503 queue_full
-  bool access_log = false;                      // one line per request on stderr
+  bool access_log = false;                      // one JSON line per request on stderr (server/log.h)
 };
 
 // How scenes sent over HTTP may name "file" surfaces: not at all without a mesh root, and then

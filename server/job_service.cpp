@@ -19,6 +19,8 @@
 #include <thread>
 #include <vector>
 
+#include "server/log.h"
+
 namespace lambert {
 namespace {
 
@@ -69,6 +71,8 @@ struct JobService::Impl {
   std::map<Running*, std::shared_ptr<Running>> running;
   std::uint64_t submissions = 0;     // grows with each local submission: wakes an idle worker
   bool draining = false, stopping = false;
+  std::map<std::string, Histogram> solve_seconds;  // by outcome: done, failed
+  std::uint64_t submitted = 0, cache_hits = 0;
   std::vector<std::thread> workers;
   std::thread sweeper;
 
@@ -82,6 +86,10 @@ struct JobService::Impl {
   std::string failure_text(const Ended& e) const;
   void run_claim(const Claim& claim);
   void run_sync(SyncJob& job);
+  void record_solve(const char* outcome, double seconds) {
+    std::lock_guard lock(mutex);
+    solve_seconds[outcome].observe(seconds);
+  }
 };
 
 JobService::JobService(std::unique_ptr<JobStore> store, JobServiceOptions options)
@@ -132,18 +140,27 @@ SubmitOutcome JobService::submit(const std::string& scene_json, const std::strin
     if (s.draining) return ShuttingDown{};
   }
   SubmitOutcome out = s.store->submit(scene_json, cache_key, s.options.queue_size);
+  const auto* status = std::get_if<JobStatus>(&out);
   {
     std::lock_guard lock(s.mutex);
     ++s.submissions;
+    if (status) ++s.submitted;
+    if (status && status->cached) ++s.cache_hits;
   }
+  if (status)
+    log_json({{"event", "job"}, {"id", status->id}, {"state", to_string(status->state)},
+              {"cached", status->cached}, {"instance", s.options.instance}});
   s.work_cv.notify_one();
   return out;
 }
 
 SyncOutcome JobService::solve_now(const std::string& scene_json, const std::string& cache_key) {
   Impl& s = *impl_;
-  if (auto cached = cache_key.empty() ? nullptr : s.store->cached_result(cache_key))
+  if (auto cached = cache_key.empty() ? nullptr : s.store->cached_result(cache_key)) {
+    std::lock_guard lock(s.mutex);
+    ++s.cache_hits;
     return JobResult{std::move(cached)};
+  }
   const std::size_t queued = s.store->counts().queued;
   auto job = std::make_shared<SyncJob>();
   job->scene_json = scene_json;
@@ -183,6 +200,20 @@ JobService::Counts JobService::counts() {
   c.queue_size = s.options.queue_size;
   c.draining = s.draining;
   return c;
+}
+
+MetricsSnapshot JobService::metrics() {
+  Impl& s = *impl_;
+  MetricsSnapshot m;
+  m.jobs = s.store->counts();
+  std::lock_guard lock(s.mutex);
+  m.running_here = s.running.size();
+  m.workers = s.options.workers;
+  m.draining = s.draining;
+  m.solve_seconds = s.solve_seconds;
+  m.submitted = s.submitted;
+  m.cache_hits = s.cache_hits;
+  return m;
 }
 
 // ---- the workers ----------------------------------------------------------------------------------
@@ -322,24 +353,40 @@ void JobService::Impl::run_claim(const Claim& claim) {
     std::lock_guard lock(mutex);
     running.emplace(entry.get(), entry);
   }
+  log_json({{"event", "job"}, {"id", claim.id}, {"state", "running"}, {"attempt", claim.token},
+            {"instance", options.instance}});
+  const auto start = SteadyClock::now();
   const Ended ended = solve(claim.scene_json, &claim, *entry);
+  const double seconds = std::chrono::duration<double>(SteadyClock::now() - start).count();
   if (ended.outcome.kind == SolveProcessOutcome::Kind::Internal)
     std::cerr << "lambert serve: job " << claim.id << " failed: " << ended.outcome.reason << "\n";
+  // What became of the job: done, failed, released (back to the queue), cancelled, lost (taken
+  // over or removed), or unrecorded (the store could not be reached: the lease runs out and another
+  // worker takes the job up).
+  nlohmann::json line = {{"event", "job"}, {"id", claim.id}, {"instance", options.instance},
+                         {"attempt", claim.token}, {"solve_s", seconds}};
   try {
     if (ended.stop == Stop::Shutdown) {
       store->release(claim);  // not final: it runs again, here after a restart or elsewhere
-    } else if (ended.stop != Stop::Cancelled && ended.stop != Stop::Lost) {
+      line["state"] = "released";
+    } else if (ended.stop == Stop::Cancelled || ended.stop == Stop::Lost) {
+      line["state"] = ended.stop == Stop::Cancelled ? "cancelled" : "lost";
+    } else {
       JobOutcome outcome;
       if (ended.outcome.kind == SolveProcessOutcome::Kind::Done && ended.stop == Stop::None)
         outcome.result = std::make_shared<const std::string>(std::move(ended.outcome.result));
       else
         outcome.error = failure_text(ended);
-      store->finish(claim, outcome);  // false: cancelled or taken over meanwhile, nothing to do
+      const bool recorded = store->finish(claim, outcome);  // false: cancelled or taken over meanwhile
+      line["state"] = !recorded ? "lost" : outcome.result ? "done" : "failed";
+      if (recorded && !outcome.result) line["error"] = outcome.error;
+      record_solve(outcome.result ? "done" : "failed", seconds);
     }
   } catch (const std::exception& e) {
-    // The claim's lease runs out and another worker takes the job up.
     std::cerr << "lambert serve: job " << claim.id << ": cannot record its outcome: " << e.what() << "\n";
+    line["state"] = "unrecorded";
   }
+  log_json(line);
   {
     std::lock_guard lock(mutex);
     running.erase(entry.get());
@@ -353,9 +400,17 @@ void JobService::Impl::run_sync(SyncJob& job) {
     std::lock_guard lock(mutex);
     running.emplace(entry.get(), entry);
   }
+  const auto start = SteadyClock::now();
   Ended ended = solve(job.scene_json, nullptr, *entry);
+  const double seconds = std::chrono::duration<double>(SteadyClock::now() - start).count();
   if (ended.outcome.kind == SolveProcessOutcome::Kind::Internal)
     std::cerr << "lambert serve: synchronous solve failed: " << ended.outcome.reason << "\n";
+  if (ended.stop != Stop::Shutdown) {
+    const bool done = ended.outcome.kind == SolveProcessOutcome::Kind::Done && ended.stop == Stop::None;
+    record_solve(done ? "done" : "failed", seconds);
+    log_json({{"event", "solve"}, {"state", done ? "done" : "failed"}, {"solve_s", seconds},
+              {"instance", options.instance}});
+  }
   std::lock_guard lock(mutex);
   running.erase(entry.get());
   if (ended.stop == Stop::Shutdown) job.outcome = ShuttingDown{};

@@ -8,6 +8,9 @@
 // solve of the job at once; a job cancelled through another instance is stopped at the next
 // renewal of its claim. The time limit kills the worker process.
 //
+// Each job's start and end is a structured log line (server/log.h), and each solve's time goes into
+// the histogram of GET /v1/metrics (server/metrics.h).
+//
 // shutdown() stops at once: running solves are killed and their jobs handed back to the queue (a
 // durable store runs them again, here after a restart or on another instance). drain() first stops
 // taking work and waits for the running solves to finish.
@@ -22,6 +25,7 @@
 #include <variant>
 
 #include "server/job_store.h"
+#include "server/metrics.h"
 #include "server/solve_process.h"
 
 namespace lambert {
@@ -61,6 +65,8 @@ class JobService {
     bool draining = false;
   };
   Counts counts();
+  // The store's counts and this instance's record (the HTTP counters are the server's to add).
+  MetricsSnapshot metrics();
 
   // Stops taking work and waits up to `timeout` for the running solves, then shutdown().
   void drain(std::chrono::duration<double> timeout);

@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <chrono>
 #include <filesystem>
 #include <iostream>
 #include <limits>
@@ -22,6 +23,7 @@
 #include "server/http_server.h"
 #include "server/job_service.h"
 #include "server/job_store_fs.h"
+#include "server/job_store_pg.h"
 
 namespace lambert {
 namespace {
@@ -33,6 +35,9 @@ struct ServeArgs {
   std::size_t workers = 2;
   std::size_t http_threads = HttpServerOptions{}.http_threads;
   std::string data_dir, mesh_root;  // empty: none
+  std::string store;                // a PostgreSQL URI; empty: the data directory or memory
+  double store_lease_s = 30;
+  double drain_s = 20;
   std::size_t max_body_bytes = HttpServerOptions{}.max_body_bytes;
   std::size_t max_patches = 10000;
   double job_time_limit_s = 300;
@@ -50,6 +55,15 @@ void define_options(cli::Options& o, ServeArgs& a) {
   o.count("--threads", a.workers, 1, 256, "solver workers: scenes solved at once");
   o.count("--http-threads", a.http_threads, 2, 1024, "connections served at once");
   o.text("--data-dir", a.data_dir, "keep jobs and results in DIR (kept across restarts)", "DIR");
+  o.text("--store", a.store,
+         "keep jobs and results in PostgreSQL, shared by every instance started with the same URI "
+         "(postgresql://user@host:5432/db; docs/SCALING.md)", "URI");
+  o.number("--store-lease-s", a.store_lease_s, 1, 3600,
+           "with --store: a running job whose instance stopped renewing its lease for S seconds is "
+           "taken up by another");
+  o.number("--drain-s", a.drain_s, 0, kMaxSeconds,
+           "on SIGTERM: let running solves finish for up to S seconds, then hand the rest back to the "
+           "queue (SIGINT or a second signal: at once)");
   o.directory("--mesh-root", a.mesh_root, "allow \"file\" surfaces, relative to DIR and never outside it");
   o.count("--max-body-bytes", a.max_body_bytes, 1, std::size_t{1} << 40, "largest request body in bytes");
   o.count("--max-patches", a.max_patches, 1, std::numeric_limits<std::size_t>::max(),
@@ -60,7 +74,7 @@ void define_options(cli::Options& o, ServeArgs& a) {
   o.text("--job-memory-limit", a.job_memory_limit,
          "address space of each solve's process: 4G, 512M or bytes, 0 for none "
          "(default: the machine's memory divided by --threads)", "SIZE");
-  o.flag("--access-log", a.access_log, "one line per request on stderr");
+  o.flag("--access-log", a.access_log, "one JSON line per request on stderr (jobs are always logged)");
 }
 
 // "4G", "512M", "65536K" or plain bytes (binary multiples).
@@ -91,7 +105,9 @@ struct ServeOptions {
   int port = 0;
   JobServiceOptions jobs;
   FileJobStoreOptions files;
+  std::optional<PgJobStoreOptions> postgres;
   HttpServerOptions http;
+  std::chrono::duration<double> drain{0};
 };
 
 // The service's options from the parsed arguments, or the exit status of a usage error (printed).
@@ -106,6 +122,17 @@ std::variant<ServeOptions, int> serve_options(const ServeArgs& a) {
   o.jobs.time_limit = std::chrono::duration<double>(a.job_time_limit_s);
   o.files.result_ttl = std::chrono::duration<double>(a.result_ttl_s);
   if (!a.data_dir.empty()) o.files.data_dir = std::filesystem::path(a.data_dir);
+  if (!a.store.empty()) {
+    if (!is_postgresql_uri(a.store))
+      return cli::usage_error("serve", "--store: '" + a.store + "' is not a postgresql:// URI");
+    if (!a.data_dir.empty()) return cli::usage_error("serve", "--store and --data-dir exclude each other");
+    PgJobStoreOptions pg;
+    pg.conninfo = a.store;
+    pg.result_ttl = o.files.result_ttl;
+    pg.lease = std::chrono::duration<double>(a.store_lease_s);
+    o.postgres = pg;
+  }
+  o.drain = std::chrono::duration<double>(a.drain_s);
   o.jobs.limits.memory_bytes = physical_memory_bytes() / a.workers;
   if (!a.job_memory_limit.empty()) {
     const auto bytes = parse_size(a.job_memory_limit);
@@ -145,8 +172,13 @@ int run_serve(const ServeArgs& args) {
   pthread_sigmask(SIG_BLOCK, &signals, nullptr);
 
   std::optional<JobService> jobs;
+  std::string where;
   try {
-    jobs.emplace(std::make_unique<FileJobStore>(o.files), o.jobs);
+    std::unique_ptr<JobStore> store;
+    if (o.postgres) store = std::make_unique<PgJobStore>(*o.postgres);
+    else store = std::make_unique<FileJobStore>(o.files);
+    where = store->describe();
+    jobs.emplace(std::move(store), o.jobs);
   } catch (const std::exception& e) {
     std::cerr << "lambert serve: " << e.what() << "\n";
     return 1;
@@ -160,26 +192,44 @@ int run_serve(const ServeArgs& args) {
   const bool ipv6 = o.host.find(':') != std::string::npos;
   std::cout << "lambert " << LAMBERT_VERSION << " listening on http://" << (ipv6 ? "[" : "") << o.host
             << (ipv6 ? "]" : "") << ":" << port << " (" << o.jobs.workers << " solver workers"
-            << (o.files.data_dir ? ", data in " + o.files.data_dir->string() : std::string(", results in memory"))
+            << ", " << where
             << (o.http.mesh_root ? ", mesh root " + o.http.mesh_root->string() : std::string())
             << ")" << std::endl;
 
-  // Shutdown order: first the jobs (running solves are cancelled, and requests waiting for a
-  // synchronous solve are answered 503), then the server, whose stop() waits for its handlers.
-  // Jobs that did not finish stay in --data-dir and run again after a restart.
+  // SIGTERM drains: no new work is taken, running solves may finish for up to --drain-s, and the
+  // jobs still running then are handed back to the queue (another instance, or this one after a
+  // restart, runs them). SIGINT, or a second signal while draining, hands them back at once. The
+  // server answers status and result requests throughout, and stops last (its stop() waits for its
+  // handlers).
   std::atomic<bool> listening_ended{false};
+  std::thread drainer;
   std::thread signal_waiter([&] {
-    int sig = 0;
-    sigwait(&signals, &sig);
-    if (!listening_ended)
-      std::cerr << "lambert serve: " << (sig == SIGINT ? "SIGINT" : "SIGTERM") << ", shutting down\n";
-    jobs->shutdown();
-    server.stop();
+    for (bool draining = false;;) {
+      int sig = 0;
+      sigwait(&signals, &sig);
+      if (listening_ended) break;
+      const bool at_once = sig == SIGINT || draining || o.drain.count() <= 0;
+      std::cerr << "lambert serve: " << (sig == SIGINT ? "SIGINT" : "SIGTERM");
+      if (at_once) std::cerr << ", handing running jobs back to the queue and stopping\n";
+      else std::cerr << ", draining (running solves may finish for up to " << o.drain.count() << " s)\n";
+      if (at_once) {
+        jobs->shutdown();
+        server.stop();
+        break;
+      }
+      draining = true;
+      drainer = std::thread([&] {
+        jobs->drain(o.drain);
+        server.stop();
+      });
+    }
   });
   const bool ok = server.listen_after_bind();
   listening_ended = true;
   pthread_kill(signal_waiter.native_handle(), SIGTERM);  // if listening ended by itself
   signal_waiter.join();
+  if (drainer.joinable()) drainer.join();
+  jobs->shutdown();
   std::cerr << "lambert serve: stopped\n";
   return ok ? 0 : 1;
 }

@@ -76,6 +76,7 @@ SolveProcess::SolveProcess(const std::filesystem::path& executable, const std::s
   std::vector<std::string> args = {executable.string(), "solve-worker", "--parent-pid",
                                    std::to_string(::getpid())};
   if (limits.mesh_root) args.insert(args.end(), {"--mesh-root", limits.mesh_root->string()});
+  else if (limits.scene_dir) args.insert(args.end(), {"--scene-dir", limits.scene_dir->string()});
   if (limits.max_patches) args.insert(args.end(), {"--max-patches", std::to_string(limits.max_patches)});
   if (limits.memory_bytes) args.insert(args.end(), {"--memory-limit", std::to_string(limits.memory_bytes)});
   std::vector<char*> argv;

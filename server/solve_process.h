@@ -23,6 +23,9 @@ struct SolveLimits {
   std::optional<std::filesystem::path> mesh_root;  // none: the scene may not name files
   std::size_t max_patches = 0;                     // 0: the solver's own limit only
   std::uint64_t memory_bytes = 0;                  // address space of the worker; 0: none
+  // The scene came from a file in this directory (`lambert batch`): its "file" surfaces resolve
+  // against it, anywhere, as on the command line. Ignored with a mesh root.
+  std::optional<std::filesystem::path> scene_dir;
 };
 
 // Why a worker process ended, as the server tells its client.

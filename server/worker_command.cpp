@@ -94,6 +94,9 @@ int run_solve_worker(const std::vector<std::string>& args) {
     } else if (a == "--mesh-root") {
       files.policy = FileAccess::Policy::UnderRoot;
       files.root = v;
+    } else if (a == "--scene-dir") {
+      files.policy = FileAccess::Policy::Anywhere;
+      files.base_dir = v;
     } else if (a == "--max-patches" && number<std::size_t>(v)) {
       control.max_patches = *number<std::size_t>(v);
     } else if (a == "--memory-limit" && number<std::uint64_t>(v)) {

@@ -73,7 +73,7 @@ struct ServiceOptions {
     o.workers = workers;
     o.queue_size = queue_size;
     o.time_limit = time_limit;
-    o.limits = {mesh_root, max_patches, memory_bytes};
+    o.limits = {mesh_root, max_patches, memory_bytes, {}};
     o.worker_executable = LAMBERT_BINARY;
     return o;
   }
@@ -82,9 +82,11 @@ ServiceOptions job_options() { return {}; }
 
 class TestServer {
  public:
-  explicit TestServer(const ServiceOptions& jobs = job_options(), HttpServerOptions http = {}) {
-    store_ = std::make_unique<JobService>(std::make_unique<FileJobStore>(jobs.files()),
-                                          jobs.service(http.mesh_root));
+  explicit TestServer(const ServiceOptions& jobs = job_options(), HttpServerOptions http = {})
+      : TestServer(std::make_unique<FileJobStore>(jobs.files()), jobs, std::move(http)) {}
+  // The same on another store (server/job_store_pg.h in pg_store_test).
+  TestServer(std::unique_ptr<JobStore> store, const ServiceOptions& jobs, HttpServerOptions http = {}) {
+    store_ = std::make_unique<JobService>(std::move(store), jobs.service(http.mesh_root));
     server_ = std::make_unique<HttpServer>(*store_, std::move(http));
     port_ = server_->bind("127.0.0.1", 0);
     EXPECT_GT(port_, 0);
@@ -98,6 +100,7 @@ class TestServer {
   }
   int port() const { return port_; }
   void shutdown_jobs() { store_->shutdown(); }
+  JobService& jobs() { return *store_; }
   std::unique_ptr<httplib::Client> client() const {
     auto c = std::make_unique<httplib::Client>("127.0.0.1", port_);
     c->set_read_timeout(300, 0);

@@ -6,7 +6,8 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 packages=(build-essential cmake ninja-build pkg-config
           libcgal-dev libopenmesh-dev libembree-dev libcpp-httplib-dev nlohmann-json3-dev
-          libcli11-dev libcairo2-dev fonts-dejavu-core libpng-dev libgtest-dev libbenchmark-dev curl)
+          libcli11-dev libcairo2-dev fonts-dejavu-core libpng-dev libgtest-dev libbenchmark-dev curl
+          libpq-dev postgresql python3-prometheus-client)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
