@@ -4,7 +4,10 @@
 #pragma GCC diagnostic ignored "-Wunused-function"  // the fixture's helpers this file does not use
 #include "tests/service_fixture.h"
 
+#include <pty.h>
 #include <sys/stat.h>
+
+#include <regex>
 
 #include "tests/serve_process.h"
 
@@ -117,6 +120,34 @@ TEST(Batch, OnAServiceTheAnswersAreTheSameAndARepeatedSceneIsCached) {
   expect_closed_form(out, "f-again-40cd", 40);
   EXPECT_NE(r.out.find("done (cached)"), std::string::npos) << r.out;  // the repeated scene, in order after a
   EXPECT_TRUE(read_text(out / "a-40cd.result.json") == read_text(out / "f-again-40cd.result.json"));
+}
+
+// On a pseudo-terminal the bar is redrawn in place (\r) and ends full; piped, there is none.
+TEST(Batch, AProgressBarIsDrawnOnATerminalOnly) {
+  const TempDir dir;
+  fs::create_directories(dir.path / "scenes");
+  for (double cd : {10.0, 20.0}) std::ofstream(dir.path / "scenes" / (std::to_string(int(cd)) + ".json")) << point_scene(cd);
+  const std::string scenes = (dir.path / "scenes").string(), out = (dir.path / "out").string();
+  int master = -1;
+  const pid_t pid = ::forkpty(&master, nullptr, nullptr, nullptr);
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    ::execl(LAMBERT_BINARY, LAMBERT_BINARY, "batch", scenes.c_str(), "-o", out.c_str(), static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  std::string seen;
+  char buffer[4096];
+  for (ssize_t n; (n = ::read(master, buffer, sizeof buffer)) > 0;) seen.append(buffer, n);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  ::close(master);
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << seen;
+  EXPECT_TRUE(std::regex_search(seen, std::regex(R"(\r\[\.{30}\] 0/2 finished, 1 running)"))) << seen;
+  EXPECT_TRUE(std::regex_search(seen, std::regex(R"(\r\[#{30}\] 2/2 finished, 0 running)"))) << seen;
+  fs::remove_all(dir.path / "out");
+  const BatchRun piped = run_batch(dir, scenes + " -o " + out);
+  EXPECT_EQ(piped.status, 0);
+  EXPECT_EQ(piped.err.find('\r'), std::string::npos) << piped.err;
 }
 
 TEST(Batch, BadInputIsRefusedNamingTheLineAndAFailedSceneIsReported) {

@@ -12,7 +12,9 @@ if [ $# -ne 2 ] || { [ "$1" != start ] && [ "$1" != stop ]; }; then
   exit 2
 fi
 command=$1
+self=$(realpath "$0")
 dir=$(realpath -m "$2")
+cd /  # the cluster's owner may not be allowed into the caller's directory
 bindir=$(ls -d /usr/lib/postgresql/*/bin 2>/dev/null | sort -V | tail -1)
 if [ -z "$bindir" ]; then
   echo "$0: no PostgreSQL server under /usr/lib/postgresql (apt-get install postgresql)" >&2
@@ -23,11 +25,11 @@ as_owner() {
 }
 case $command in
   start)
-    if [ -d "$dir/data" ]; then "$0" stop "$dir"; fi  # left by an interrupted run
+    if [ -d "$dir/data" ]; then "$self" stop "$dir"; fi  # left by an interrupted run
     mkdir -p "$dir"
     chmod 700 "$dir"
     if [ "$(id -u)" -eq 0 ]; then chown postgres: "$dir"; fi
-    as_owner "$bindir/initdb" -D "$dir/data" -A trust -U lambert -E UTF8 --no-sync > "$dir/initdb.log" 2>&1 ||
+    as_owner "$bindir/initdb" -D "$dir/data" -A trust -U lambert -E UTF8 --locale=C --no-sync > "$dir/initdb.log" 2>&1 ||
       { cat "$dir/initdb.log" >&2; exit 1; }
     as_owner "$bindir/pg_ctl" -D "$dir/data" -l "$dir/server.log" -w -t 60 \
       -o "-k $dir -c listen_addresses= -c fsync=off -c max_connections=200 -p 5432" start \
