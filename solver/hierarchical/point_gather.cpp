@@ -4,9 +4,24 @@
 #include <cmath>
 
 #include "solver/form_factor.h"
+#include "solver/receiver_kernel.h"
 #include "solver/visible_fraction.h"
 
 namespace lambert::hierarchical {
+namespace {
+
+// The weight of a visibility ray from the receiver to q on a source of normal nq: w(ω) cos θ_q / r²
+// (for a plane, the differential form-factor kernel link_weight).
+double receiver_link_weight(const Receiver& r, const Point3& q, const Vector3& nq) {
+  if (r.kind == Receiver::Kind::Planar) return link_weight(r.point, r.normal, q, nq);
+  const Vector3 d = q - r.point;
+  const double r2 = length_squared(d);
+  if (!(r2 > 0)) return 0;
+  const double dist = std::sqrt(r2);
+  return receiver_weight(r, d / dist) * std::max(0.0, -dot(nq, d)) / (r2 * dist);
+}
+
+}  // namespace
 
 HierarchicalPointGather::HierarchicalPointGather(const Hierarchy& h, const PlaneVerdicts& planes, const Visibility& vis,
                                                  const std::vector<const double*>& B, double accuracy)
@@ -41,7 +56,7 @@ double HierarchicalPointGather::element_visibility(const Receiver& r, const Poin
   const Element& S = h_.elements[node];
   return weighted_visible_fraction(
       vis_, [&](int j) { return std::pair{from, vis_.lift(visibility_sample(S.tri, j), S.normal)}; },
-      [&](const Point3&, const Point3& q) { return link_weight(r.point, r.normal, q, S.normal); }, 16);
+      [&](const Point3&, const Point3& q) { return receiver_link_weight(r, q, S.normal); }, 16);
 }
 
 // An element is taken whole where its radiosity varies little (f × spread within the tolerance) and
@@ -51,7 +66,7 @@ double HierarchicalPointGather::element_visibility(const Receiver& r, const Poin
 void HierarchicalPointGather::visit_element(const Receiver& r, const Point3& from, const OccluderPlanes::Sides& sides,
                                             int node, std::vector<int>& stack, double* E) const {
   const Element& S = h_.elements[node];
-  const double f = point_triangle_factor(r.point, r.normal, S.tri);
+  const double f = receiver_triangle_factor(r, S.tri);  // the kernel the dense gather uses
   if (f <= 0) return;
   const bool splittable = S.first_child >= 0;
   double v = -1;
@@ -78,14 +93,15 @@ void HierarchicalPointGather::visit_cluster(const Receiver& r, const Point3& fro
   }
   const Point3& p = r.point;
   const Vector3& n = r.normal;
-  if (!box_in_front(C.box, p, n, 0)) return;
+  const bool planar = r.kind == Receiver::Kind::Planar;  // the others see every direction
+  if (planar && !box_in_front(C.box, p, n, 0)) return;
   const Vector3 d_vec = p - C.centre;
   const double d = length(d_vec), d_min = d - C.radius;
   if (d >= 2 * C.radius * kTie && d_min > 0) {
     const Vector3 w = d_vec / d;
     const ClusterView view = cluster_view(h_, c, w);
     if (cluster_B_[c] * (view.projected + view.uncertainty) / (kPi * d_min * d_min) <= tolerance_) {
-      const double cos_p = std::max(0.0, -dot(n, w));
+      const double cos_p = receiver_weight(r, -w);  // (n·ω)⁺ for a plane
       if (cos_p > 0 && view.projected > 0) {
         Vector3 source_normal;
         const double v = planes_.point_sees_cluster(sides, c) ? 1.0 : weighted_visible_fraction(
@@ -95,7 +111,7 @@ void HierarchicalPointGather::visit_cluster(const Receiver& r, const Point3& fro
               source_normal = S.normal;
               return std::pair{from, vis_.lift(S.point, S.normal)};
             },
-            [&](const Point3&, const Point3& q) { return link_weight(p, n, q, source_normal); });
+            [&](const Point3&, const Point3& q) { return receiver_link_weight(r, q, source_normal); });
         const std::size_t K = values_.K;
         for (int a = 0; a < 3; ++a) {
           const double coeff = view.weight[a] * cos_p * v / (kPi * d * d);
@@ -111,7 +127,8 @@ void HierarchicalPointGather::visit_cluster(const Receiver& r, const Point3& fro
 
 void HierarchicalPointGather::gather_at_point(const Receiver& receiver, double* E) const {
   std::fill(E, E + values_.K, 0.0);
-  const Point3 from = vis_.lift(receiver.point, receiver.normal);
+  // A plane on a surface is lifted off it; the other receivers stand in free space.
+  const Point3 from = receiver.kind == Receiver::Kind::Planar ? vis_.lift(receiver.point, receiver.normal) : receiver.point;
   const OccluderPlanes::Sides sides = planes_.sides(receiver.point);
   thread_local std::vector<int> stack;  // −1 − c: cluster c; ≥ 0: element
   stack.assign(h_.clusters.empty() ? 0 : 1, -1);

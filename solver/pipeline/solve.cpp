@@ -66,19 +66,6 @@ Solution solve_dense_adaptive(const Scene& scene, const SolveControl& control) {
   return sol;
 }
 
-// The hierarchical method's gather at a point (solver/hierarchical/point_gather.cpp) takes planar
-// receivers only: a non-planar quantity is refused rather than answered as planar.
-void check_hierarchical_receivers(const Scene& scene) {
-  for (std::size_t k = 0; k < scene.probes.size(); ++k) {
-    const ProbeQuantity q = scene.probes[k].quantity;
-    if (q == ProbeQuantity::Planar || q == ProbeQuantity::Vertical) continue;
-    throw SolveError("/probes/" + std::to_string(k) +
-                     "/quantity: cylindrical, semicylindrical and hemispherical probes are not available with "
-                     "solver.method \"hierarchical\" (the scene's meshing gives more than " +
-                     std::to_string(kDenseAutoPatches) + " patches, or the method was asked for); use \"dense\"");
-  }
-}
-
 Solution solve_method(const Scene& scene, const SolveControl& control) {
   // Method selection (scene.h SolverMethod): Auto estimates the meshed patch count from the areas.
   SolverMethod method = scene.solver.method;
@@ -92,7 +79,6 @@ Solution solve_method(const Scene& scene, const SolveControl& control) {
   }
   if (method == SolverMethod::Hierarchical) {
     if (scene.output.per_source) throw SolveError("output.per_source is not available with solver.method \"hierarchical\"");
-    check_hierarchical_receivers(scene);
     Solution sol = solve_hierarchical(scene, control);
     if (scene.meshing.adaptive)
       sol.warnings.push_back("meshing.adaptive applies to the dense solver only; the hierarchical method "
