@@ -32,10 +32,34 @@ json task_summary_json(const TaskSummary& t) {
           {"floor", room_surface_json(t.floor)}};
 }
 
+json glare_json(const GlareResult& g) {
+  json sources = json::array();
+  for (const GlareSource& s : g.sources) {
+    json j = {{"source", s.source},
+              {"small", s.small},
+              {"luminance_cd_m2", s.luminance_cd_m2},
+              {"solid_angle_sr", s.solid_angle_sr},
+              {"position_index", s.position_index},
+              {"term", s.term}};
+    if (s.small) j["intensity_cd"] = s.intensity_cd, j["distance_m"] = s.distance_m;
+    sources.push_back(std::move(j));
+  }
+  return {{"name", g.name},
+          {"ugr", g.ugr ? json(*g.ugr) : json(nullptr)},
+          {"background_luminance_cd_m2", g.background_luminance_cd_m2},
+          {"indirect_illuminance_lx", g.indirect_illuminance_lx},
+          {"sources", std::move(sources)}};
+}
+
 }  // namespace
 
 void write_evaluations(json& out, const Scene& scene, const Solution& sol, const Report& report) {
   if (const auto summary = make_task_summary(scene, sol, report)) out["task_summary"] = task_summary_json(*summary);
+  if (!sol.glare.empty()) {
+    json glare = json::array();
+    for (const GlareResult& g : sol.glare) glare.push_back(glare_json(g));
+    out["glare"] = std::move(glare);
+  }
 }
 
 }  // namespace lambert

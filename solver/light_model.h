@@ -24,6 +24,21 @@
 
 namespace lambert {
 
+// What an observer at a point sees of a source, for glare (solver/glare.h): its luminous parts as a
+// point (the intensity towards the eye) or as an area (the luminance towards the eye and the solid
+// angle of the part the eye sees), each per unit of the source's S(λ). Where a light has luminous
+// openings (a luminaire from a photometric file), they are the area.
+struct GlareView {
+  enum class Kind { None, Point, Area };
+  Kind kind = Kind::None;     // None: nothing to see (ambient, directional, sky, hidden, behind)
+  Vector3 direction;          // unit, from the eye towards the centre of what it sees
+  double distance_m = 0;      // to that centre
+  double intensity = 0;       // Point: I towards the eye per unit S (point-like: the lobe, 1 on the axis)
+  double luminance = 0;       // Area: L towards the eye per unit S [sr^-1 for an exitance]
+  double solid_angle_sr = 0;  // Area: of the visible luminous part
+  double projected_area_m2 = 0;  // Area: the visible part's area seen from the eye (ω r²)
+};
+
 class LightModel {
  public:
   virtual ~LightModel() = default;
@@ -48,6 +63,10 @@ class LightModel {
   // Area average of g over triangle t (front side counter-clockwise), times the kernel-weighted visible
   // fraction of the source seen from t.
   virtual double patch_factor(const Triangle& t, const Visibility& vis) const = 0;
+
+  // What an observer at `eye` sees of the source (one ray for a point; rays to the part for an
+  // area). Default: nothing.
+  virtual GlareView glare_view(const Point3& eye, const Visibility& vis) const { return {}; }
 
   // Flux emitted per unit of S. Zero for directional and ambient light, whose flux depends on the
   // scene they fall on; positive for every source whose emitted flux is known (the energy balance

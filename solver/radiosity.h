@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "solver/glare.h"
 #include "solver/scene.h"
 
 namespace lambert {
@@ -96,6 +97,7 @@ struct Solution {
   std::vector<double> irradiance;   // [patch][λ] flat, W m^-2 nm^-1 (H)
   std::vector<ProbeResult> probes;  // parallel to Scene::probes
   std::vector<SourceContribution> contributions;  // with output.per_source: lights, then emitters
+  std::vector<GlareResult> glare;   // parallel to Scene::glare
   SolveStats stats;
   std::vector<std::string> warnings;
   std::size_t wavelengths() const { return grid.size(); }

@@ -16,6 +16,7 @@
 #include <cmath>
 
 #include "solver/cubature.h"
+#include "solver/form_factor.h"
 #include "solver/lights/point_like.h"
 #include "solver/visible_fraction.h"
 
@@ -136,6 +137,27 @@ class PhongEmitterModel final : public LightModel {
                                             visibility_sample(t, paired_sample(k))};
                          },
                          [&](const Point3& q, const Point3& p) { return kernel(q, p, nt); });
+  }
+
+  // The piece as an area: radiance R (n+1)/(2π) cos^{n−1} ψ towards the eye (intensity per unit area
+  // over the projected area), its solid angle times the visible share of 16 rays.
+  GlareView glare_view(const Point3& eye, const Visibility& vis) const override {
+    const Point3 c = emitter_.centroid();
+    const Vector3 d = c - eye;
+    const double r = length(d);
+    const double cos_psi = r > 0 ? -dot(lobe_.axis, d) / r : 0;
+    if (!(cos_psi > 0)) return {};
+    int seen = 0;
+    for (int k = 0; k < 16; ++k) seen += vis.visible(eye, visibility_sample(emitter_, k));
+    if (seen == 0) return {};
+    GlareView g;
+    g.kind = GlareView::Kind::Area;
+    g.direction = d / r;
+    g.distance_m = r;
+    g.luminance = normalisation() * cone_lobe_value(lobe_, cos_psi) / cos_psi;
+    g.solid_angle_sr = triangle_solid_angle(eye, emitter_) * seen / 16.0;
+    g.projected_area_m2 = area_ * cos_psi * seen / 16.0;
+    return g;
   }
 
   double flux_factor() const override { return area_; }

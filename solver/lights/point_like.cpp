@@ -274,6 +274,20 @@ double PointLikeLight::receiver_factor(const Receiver& r, const Visibility& vis)
   return g != 0 && vis.visible(r.point, light_.position) ? g : 0;
 }
 
+GlareView PointLikeLight::glare_view(const Point3& eye, const Visibility& vis) const {
+  const Vector3 d = light_.position - eye;
+  const double r = length(d);
+  if (r == 0) return {};
+  const double I = cone_lobe_value(lobe_, -dot(lobe_.axis, d) / r);
+  if (I == 0 || !vis.visible(eye, light_.position)) return {};
+  GlareView g;
+  g.kind = GlareView::Kind::Point;
+  g.direction = d / r;
+  g.distance_m = r;
+  g.intensity = I;
+  return g;
+}
+
 double PointLikeLight::patch_factor(const Triangle& t, const Visibility& vis) const {
   const Vector3 n = t.normal();
   if (dot(light_.position - t.v[0], n) <= 0) return 0;  // the source is behind the patch

@@ -69,6 +69,9 @@ class PointLikeLight : public LightModel {
   // E_z = I sin ε / (π d²) with ε the angle between the light's direction and the axis.
   double receiver_factor(const Receiver& receiver, const Visibility& vis) const final;
   double patch_factor(const Triangle& t, const Visibility& vis) const final;
+  // A point of intensity I(ψ) towards the eye (the attenuation polynomial shapes the light's
+  // irradiance, not what the eye sees of the source: not applied).
+  GlareView glare_view(const Point3& eye, const Visibility& vis) const final;
   std::string_view kind() const final {
     switch (light_.kind) {
       case PointLight::Kind::Point: return "point";

@@ -4,6 +4,7 @@
 
 #include "solver/pipeline/certificate.h"
 #include "solver/pipeline/direct_light.h"
+#include "solver/pipeline/glare.h"
 #include "solver/pipeline/hemisphere.h"
 #include "solver/pipeline/outputs.h"
 #include "solver/pipeline/probes.h"
@@ -57,7 +58,8 @@ Solution run_pipeline(const Scene& scene, TransportOperator& op, SolveStats stat
   sol.stats.patches = N;
   report(0.05);
 
-  DirectLight light = direct_light(scene, sol.patches, op.lobed_pieces(scene), op.visibility(), control);
+  const std::vector<LobedPiece> lobed = op.lobed_pieces(scene);
+  DirectLight light = direct_light(scene, sol.patches, lobed, op.visibility(), control);
   report(0.1);
 
   // ---- hemispheres, then the rounds: build (refine) F, close its rows, solve ----
@@ -111,6 +113,7 @@ Solution run_pipeline(const Scene& scene, TransportOperator& op, SolveStats stat
   t0 = Clock::now();
   enter_stage(control, SolveStage::Probes);
   solve_probes(sol, scene, light, systems, fields, transport ? &op : nullptr, op.visibility(), control);
+  solve_glare(sol, scene, light, lobed, systems, fields, transport ? &op : nullptr, op.visibility());
   sol.stats.time_probes_s = seconds_since(t0);
 
   certify_energy(sol, scene, light, transport ? &op : nullptr);
