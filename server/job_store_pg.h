@@ -13,9 +13,10 @@
 // Claims: the oldest job that is queued, or running under a lease that ran out (its instance died
 // or lost the database), is taken with SELECT ... FOR UPDATE SKIP LOCKED, so concurrent instances
 // never take the same row; the token grows, and the lease runs `lease` from the database's clock
-// (never the instances': their clocks may differ). A worker renews the lease every lease/4 (the
-// heartbeat); a renewal that finds the job cancelled, removed or taken over answers Lost, and the
-// worker stops its solve: that is how a DELETE on any instance reaches the one that runs the job.
+// (never the instances': their clocks may differ). A worker renews the lease every lease/4, at
+// most every 5 s (the heartbeat); a renewal that finds the job cancelled, removed or taken over
+// answers Lost, and the worker stops its solve: that is how a DELETE on any instance reaches the one
+// that runs the job.
 // finish() commits a result only while the job is still running under the worker's token, in one
 // transaction with the result's row, so no job is done twice and a stale worker's result is dropped.
 //
