@@ -26,7 +26,7 @@ FileAccess command_line_file_access(const std::string& scene_path) {
 std::optional<Scene> decode_scene_file(const std::string& path, const std::string& text) {
   DecodeResult decoded = decode_scene(text, command_line_file_access(path));
   if (!decoded.ok()) {
-    std::cerr << path << ": invalid scene\n" << format_errors(decoded.errors);
+    std::cerr << path << ": invalid scene\n" << format_errors(decoded);
     return std::nullopt;
   }
   return std::move(decoded.scene);

@@ -321,7 +321,7 @@ int run_compare(const CompareArgs& args) {
   }
   DecodeResult rgb = decode_scene_as_rgb(text, command_line_file_access(scene_path));
   if (!rgb.ok()) {
-    std::cerr << scene_path << ": invalid in rgb mode\n" << format_errors(rgb.errors);
+    std::cerr << scene_path << ": invalid in rgb mode\n" << format_errors(rgb);
     return 2;
   }
 

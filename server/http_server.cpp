@@ -486,12 +486,14 @@ std::optional<Scene> HttpServer::Impl::decode(const std::string& body, httplib::
                body.empty() ? std::string("the request body is empty; send a scene (JSON)") : first.message);
     return std::nullopt;
   }
+  // Bounded (scene_codec.h): the first kMaxListedErrors errors, each shortened, and the count of all.
   json errors = json::array();
   for (const DecodeError& e : decoded.errors) errors.push_back({{"pointer", e.pointer}, {"message", e.message}});
   std::string message = (first.pointer.empty() ? std::string("(document)") : first.pointer) + ": " + first.message;
-  if (decoded.errors.size() > 1)
-    message += " (and " + std::to_string(decoded.errors.size() - 1) + " more; see \"errors\")";
-  send_error(res, 422, "invalid_scene", message, first.pointer, {{"errors", std::move(errors)}});
+  if (decoded.error_count() > 1)
+    message += " (and " + std::to_string(decoded.error_count() - 1) + " more; see \"errors\")";
+  send_error(res, 422, "invalid_scene", message, first.pointer,
+             {{"errors", std::move(errors)}, {"error_count", decoded.error_count()}});
   return std::nullopt;
 }
 

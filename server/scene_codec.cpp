@@ -84,8 +84,8 @@ DecodeResult walk(Decoder& d, const json& doc) {
 
 DecodeResult decode_scene(const std::string& json_text, const FileAccess& files) {
   codec::ParsedDocument parsed = codec::parse_document(json_text);
-  if (!parsed.fatal.empty()) return {std::nullopt, std::move(parsed.fatal)};
-  Decoder decoder(files, std::move(parsed.duplicate_keys));
+  if (!parsed.fatal.empty()) return {std::nullopt, std::move(parsed.fatal), 0};
+  Decoder decoder(files, std::move(parsed.duplicate_keys), parsed.omitted_duplicate_keys);
   return walk(decoder, parsed.doc);
 }
 
@@ -94,6 +94,46 @@ std::string format_errors(const std::vector<DecodeError>& errors) {
   for (const DecodeError& e : errors)
     out += (e.pointer.empty() ? std::string("(document)") : e.pointer) + ": " + e.message + "\n";
   return out;
+}
+
+std::string format_errors(const DecodeResult& result) {
+  std::string out = format_errors(result.errors);
+  if (result.omitted_errors > 0)
+    out += "... and " + std::to_string(result.omitted_errors) + " more errors (" +
+           std::to_string(result.error_count()) + " in all; the first " + std::to_string(result.errors.size()) +
+           " are listed)\n";
+  return out;
+}
+
+std::string_view utf8_prefix(std::string_view text, std::size_t max_bytes) {
+  if (text.size() <= max_bytes) return text;
+  std::size_t cut = max_bytes;  // never split a UTF-8 sequence: reports are JSON text again
+  while (cut > 0 && (static_cast<unsigned char>(text[cut]) & 0xC0) == 0x80) --cut;
+  return text.substr(0, cut);
+}
+
+std::string_view utf8_suffix(std::string_view text, std::size_t max_bytes) {
+  if (text.size() <= max_bytes) return text;
+  std::size_t cut = text.size() - max_bytes;
+  while (cut < text.size() && (static_cast<unsigned char>(text[cut]) & 0xC0) == 0x80) ++cut;
+  return text.substr(cut);
+}
+
+std::string elided(std::string_view head, std::size_t left_out_bytes, std::string_view tail) {
+  return std::string(head) + " ... [" + std::to_string(left_out_bytes) + " bytes left out] ... " + std::string(tail);
+}
+
+std::string shorten_for_report(std::string_view text, std::size_t max_bytes) {
+  if (text.size() <= max_bytes) return std::string(text);
+  const std::size_t keep = max_bytes > kElisionMarkBytes ? max_bytes - kElisionMarkBytes : 0;
+  const std::string_view head = utf8_prefix(text, keep / 2), tail = utf8_suffix(text, keep - keep / 2);
+  return elided(head, text.size() - head.size() - tail.size(), tail);
+}
+
+DecodeError bounded_error(std::string pointer, std::string message) {
+  if (pointer.size() > kMaxErrorTextBytes) pointer = shorten_for_report(pointer);
+  if (message.size() > kMaxErrorTextBytes) message = shorten_for_report(message);
+  return {std::move(pointer), std::move(message)};
 }
 
 }  // namespace lambert

@@ -107,16 +107,21 @@ std::optional<Vector3> unit_vector(const Vector3& v) {
 
 // ---- reporting --------------------------------------------------------------------------------
 
-Decoder::Decoder(const FileAccess& files, std::vector<DecodeError> prior_errors)
-    : files_(files), errors_(std::move(prior_errors)) {}
+Decoder::Decoder(const FileAccess& files, std::vector<DecodeError> prior_errors, std::size_t omitted_prior)
+    : files_(files), errors_(std::move(prior_errors)), dropped_errors_(omitted_prior) {}
 
 void Decoder::error(std::string pointer, std::string message) {
-  if (errors_.size() < kMaxErrors) errors_.push_back({std::move(pointer), std::move(message)});
+  if (errors_.size() < kMaxListedErrors) errors_.push_back(bounded_error(std::move(pointer), std::move(message)));
   else ++dropped_errors_;
 }
 
 void Decoder::warn(const std::string& pointer, const std::string& text) {
-  scene_.warnings.push_back((pointer.empty() ? std::string("(document)") : pointer) + ": " + text);
+  if (scene_.warnings.size() >= kMaxListedErrors) {
+    ++dropped_warnings_;
+    return;
+  }
+  scene_.warnings.push_back(shorten_for_report((pointer.empty() ? std::string("(document)") : pointer) + ": " + text,
+                                               2 * kMaxErrorTextBytes));
 }
 
 // ---- typed access -----------------------------------------------------------------------------
@@ -285,12 +290,13 @@ void Decoder::add_light(Light light, const std::string& p) {
 }
 
 DecodeResult Decoder::finish() {
-  if (dropped_errors_ > 0)
-    errors_.push_back({"", std::to_string(dropped_errors_) + " more errors not shown"});
+  if (dropped_warnings_ > 0)
+    scene_.warnings.push_back("(document): " + std::to_string(dropped_warnings_) + " more warnings not listed");
   if (errors_.empty() && scene_.mode == SpectrumMode::Rgb) reduce_scene_to_rgb(scene_);
   DecodeResult result;
   if (errors_.empty()) result.scene = std::move(scene_);
   result.errors = std::move(errors_);
+  result.omitted_errors = dropped_errors_;
   return result;
 }
 

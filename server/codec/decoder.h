@@ -29,7 +29,6 @@ using Keys = std::vector<std::string_view>;
 
 constexpr double kMaxCoordinate = 1e9;    // |x| in scene units
 constexpr double kMaxLobeExponent = 1e6;  // Phong emission lobes and cos^m light lobes
-constexpr std::size_t kMaxErrors = 500;   // beyond this only a count is reported
 constexpr double kDegree = kPi / 180.0;
 
 // ---- text and pointer helpers ----------------------------------------------------------------
@@ -77,10 +76,12 @@ std::optional<Vector3> unit_vector(const Vector3& v);
 
 class Decoder {
  public:
-  // prior_errors: what the parse already found (duplicate keys), reported first.
-  Decoder(const FileAccess& files, std::vector<DecodeError> prior_errors);
+  // prior_errors: what the parse already found (duplicate keys), reported first, and how many more
+  // it counted without listing them.
+  Decoder(const FileAccess& files, std::vector<DecodeError> prior_errors, std::size_t omitted_prior = 0);
 
-  // -- reporting
+  // -- reporting: the first kMaxListedErrors errors are kept (shortened: bounded_error), the rest
+  // counted; warnings likewise, the rest summed up in a last warning.
   void error(std::string pointer, std::string message);
   void warn(const std::string& pointer, const std::string& text);
 
@@ -121,7 +122,7 @@ class Decoder {
   // The Scene when nothing was reported (reduced to RGB in rgb mode), else the errors.
   DecodeResult finish();
   // The errors so far and no Scene, for a document that is not even an object.
-  DecodeResult reject() { return {std::nullopt, std::move(errors_)}; }
+  DecodeResult reject() { return {std::nullopt, std::move(errors_), dropped_errors_}; }
 
  private:
   const FileAccess& files_;
@@ -129,7 +130,7 @@ class Decoder {
   std::optional<WavelengthGrid> grid_;
   std::map<std::string, int> material_index_;  // material name -> index into scene_.materials
   std::vector<DecodeError> errors_;
-  std::size_t dropped_errors_ = 0;
+  std::size_t dropped_errors_ = 0, dropped_warnings_ = 0;
 };
 
 }  // namespace lambert::codec

@@ -1,6 +1,7 @@
 // The byte prescan and the SAX/DOM parse of a scene's text (server/codec/document.h).
 #include "server/codec/document.h"
 
+#include <algorithm>
 #include <optional>
 #include <utility>
 
@@ -73,6 +74,7 @@ class DomBuilder final : public json::json_sax_t {
   explicit DomBuilder(json& root) : root_(root) {}
 
   std::vector<DecodeError> duplicate_keys;
+  std::size_t omitted_duplicate_keys = 0;
   std::string parse_error_message;
   std::string parse_error_pointer;  // set when the error belongs to one value (number overflow)
 
@@ -90,9 +92,13 @@ class DomBuilder final : public json::json_sax_t {
   }
   bool key(string_t& k) override {
     Frame& f = frames_.back();
-    if (f.value->contains(k) && duplicate_keys.size() < kMaxErrors)
-      duplicate_keys.push_back({key_ptr(path(), k), "duplicate key " + quote_text(k) +
-                                                        " (JSON keeps only one of them)"});
+    if (f.value->contains(k)) {
+      if (duplicate_keys.size() < kMaxListedErrors)
+        duplicate_keys.push_back(bounded_error(key_ptr(path(), k), "duplicate key " + quote_text(k) +
+                                                                       " (JSON keeps only one of them)"));
+      else
+        ++omitted_duplicate_keys;
+    }
     slot_ = &(*f.value)[k];
     f.key = std::move(k);
     return true;
@@ -135,14 +141,35 @@ class DomBuilder final : public json::json_sax_t {
     f.value->push_back(std::move(v));
     return &f.value->back();
   }
-  // Pointer of the innermost open container.
+  // Pointer of the innermost open container. Keys may be long and 256 levels deep: a pointer longer
+  // than kMaxErrorTextBytes is built from its two ends only, as a report shortens it (bounded_error).
   std::string path() const {
-    std::string p;
-    for (std::size_t i = 0; i + 1 < frames_.size(); ++i) {
-      const Frame& f = frames_[i];
-      p = f.is_object ? key_ptr(p, f.key) : index_ptr(p, f.value->size() - 1);
+    const std::size_t levels = frames_.empty() ? 0 : frames_.size() - 1;
+    std::size_t total = 0;
+    for (std::size_t i = 0; i < levels; ++i) total += segment_bytes(i);
+    std::string head, tail;
+    std::size_t first = 0, last = levels;
+    if (total <= kMaxErrorTextBytes) {
+      while (first < levels) head += segment(first++);
+      return head;
     }
-    return p;
+    const std::size_t keep = (kMaxErrorTextBytes - kElisionMarkBytes) / 2;
+    while (first < last && head.size() < keep) head += segment(first++);
+    while (last > first && tail.size() < keep) tail = segment(--last) + tail;
+    const std::string_view h = utf8_prefix(head, keep), t = utf8_suffix(tail, keep);
+    return elided(h, total - h.size() - t.size(), t);
+  }
+  std::size_t segment_bytes(std::size_t i) const {
+    const Frame& f = frames_[i];
+    if (!f.is_object) return 1 + std::to_string(f.value->size() - 1).size();
+    return 1 + f.key.size() + static_cast<std::size_t>(std::count_if(f.key.begin(), f.key.end(), [](char c) {
+             return c == '~' || c == '/';
+           }));
+  }
+  // "/key" (escaped) or "/index" of the member being filled at level i.
+  std::string segment(std::size_t i) const {
+    const Frame& f = frames_[i];
+    return f.is_object ? key_ptr("", f.key) : index_ptr("", f.value->size() - 1);
   }
 
   json& root_;
@@ -167,13 +194,15 @@ ParsedDocument parse_document(const std::string& text) {
     const auto tag_end = message.find("] ");
     if (message.rfind("[json.exception", 0) == 0 && tag_end != std::string::npos)
       message.erase(0, tag_end + 2);
+    // The parser quotes the token it last read, which may be a megabyte-long string.
     if (!builder.parse_error_pointer.empty())
-      parsed.fatal.push_back({builder.parse_error_pointer, message + " (not a finite double)"});
+      parsed.fatal.push_back(bounded_error(builder.parse_error_pointer, message + " (not a finite double)"));
     else
-      parsed.fatal.push_back({"", "invalid JSON: " + message});
+      parsed.fatal.push_back(bounded_error("", "invalid JSON: " + message));
     return parsed;
   }
   parsed.duplicate_keys = std::move(builder.duplicate_keys);
+  parsed.omitted_duplicate_keys = builder.omitted_duplicate_keys;
   return parsed;
 }
 

@@ -13,7 +13,8 @@ namespace lambert::codec {
 struct ParsedDocument {
   json doc;                               // meaningful only when fatal is empty
   std::vector<DecodeError> fatal;         // the text is not JSON (at most one error)
-  std::vector<DecodeError> duplicate_keys;  // the text is JSON, but keys repeat
+  std::vector<DecodeError> duplicate_keys;  // the text is JSON, but keys repeat (the first ones)
+  std::size_t omitted_duplicate_keys = 0;   // repeated keys beyond those listed
 };
 
 ParsedDocument parse_document(const std::string& text);
