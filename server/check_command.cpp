@@ -10,8 +10,14 @@
 namespace lambert {
 namespace {
 
-int run_check(const std::string& path) {
-  const auto scene = load_scene_file("check", path);
+struct CheckArgs {
+  std::string path;
+  SceneLimits limits;
+};
+
+int run_check(const CheckArgs& args) {
+  const std::string& path = args.path;
+  const auto scene = load_scene_file("check", path, args.limits);
   if (!scene) return 2;
   std::size_t triangles = 0;
   for (const auto& s : scene->surfaces) triangles += s.mesh.triangles.size();
@@ -26,9 +32,10 @@ int run_check(const std::string& path) {
 cli::CommandSpec command_check() {
   return {"check", "validate a scene without solving it: every problem with its JSON pointer",
           [](cli::Options& o) {
-            auto path = std::make_shared<std::string>();
-            o.input("SCENE.json", *path, "the scene (docs/SPEC.md section 1)");
-            return [path] { return run_check(*path); };
+            auto args = std::make_shared<CheckArgs>();
+            o.input("SCENE.json", args->path, "the scene (docs/SPEC.md section 1)");
+            scene_limit_options(o, args->limits);
+            return [args] { return run_check(*args); };
           }};
 }
 

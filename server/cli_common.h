@@ -4,7 +4,9 @@
 #include <optional>
 #include <string>
 
+#include "server/cli_parser.h"
 #include "server/scene_codec.h"
+#include "solver/radiosity.h"
 
 namespace lambert {
 
@@ -18,10 +20,20 @@ FileAccess command_line_file_access(const std::string& scene_path);
 // Decodes `text`, the contents of the scene file at `path` (command_line_file_access); when it is
 // invalid, prints "PATH: invalid scene" and every error with its JSON pointer to stderr and returns
 // nullopt.
-std::optional<Scene> decode_scene_file(const std::string& path, const std::string& text);
+std::optional<Scene> decode_scene_file(const std::string& path, const std::string& text,
+                                       const SceneLimits& limits = {});
 
 // Reads and decodes the scene file at `path`; prints what is wrong ("lambert COMMAND: cannot read
 // PATH", or the decoder's errors) and returns nullopt.
-std::optional<Scene> load_scene_file(const std::string& command, const std::string& path);
+std::optional<Scene> load_scene_file(const std::string& command, const std::string& path,
+                                     const SceneLimits& limits = {});
+
+// --max-probe-points, --max-spectral-values and --max-result-bytes (server/scene_limits.h), shared by
+// `lambert solve`, `check` and `serve`.
+void scene_limit_options(cli::Options& o, SceneLimits& limits);
+
+// The solver's patch budget for `scene` under `limits` (and a plain patch limit, 0: none).
+void apply_patch_budget(const Scene& scene, const SceneLimits& limits, std::size_t max_patches,
+                        SolveControl& control);
 
 }  // namespace lambert

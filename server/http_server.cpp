@@ -475,7 +475,7 @@ HttpServer::Impl::Body HttpServer::Impl::read_body(const httplib::Request& req, 
 }
 
 std::optional<Scene> HttpServer::Impl::decode(const std::string& body, httplib::Response& res) const {
-  DecodeResult decoded = decode_scene(body, files);
+  DecodeResult decoded = decode_scene(body, files, jobs.options().limits.scene);
   if (decoded.ok()) return std::move(decoded.scene);
   const DecodeError& first = decoded.errors.front();
   // Errors without a pointer concern the whole document; it is "invalid JSON" only if the text is

@@ -2,6 +2,7 @@
 // instead), so nlohmann's "NaN becomes null" behaviour (STACK.md P10) cannot lose information.
 #include "server/result_codec.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <sstream>
 #include <nlohmann/json.hpp>
@@ -257,6 +258,34 @@ std::string encode_result(const Scene& scene, const Solution& sol, const Report&
   std::ostringstream os;
   write_result(os, scene, sol, report);
   return std::move(os).str();
+}
+
+ResultSizeBound result_size_bound(const Scene& scene) {
+  constexpr double kNumber = 25, kElement = 320, kStatsAndKeys = 64 << 10, kSolverWarnings = 256 << 10;
+  const double W = static_cast<double>(scene.grid.size());
+  const double spectral = scene.output.spectral ? 1 : 0;
+  std::size_t emitters = 0, longest_surface_name = 0;
+  ResultSizeBound b;
+  b.fixed_bytes = kStatsAndKeys + kSolverWarnings + kNumber * W + static_cast<double>(scene.name.size());
+  for (const std::string& w : scene.warnings) b.fixed_bytes += static_cast<double>(w.size()) + 8;
+  for (const Surface& s : scene.surfaces) {
+    emitters += s.emission ? 1 : 0;
+    longest_surface_name = std::max(longest_surface_name, s.name.size());
+    b.fixed_bytes += kElement + static_cast<double>(s.name.size()) + kNumber * (8 + 2 * W);  // incl. both means
+  }
+  const double sources = scene.output.per_source ? static_cast<double>(scene.lights.size() + emitters) : 0;
+  for (const Probe& p : scene.probes) {
+    const double n = static_cast<double>(p.points.size());
+    // position or points (3 n), illuminance and melanopic (3 n), the spectra (W or n W), the grid's summary.
+    b.fixed_bytes += kElement + static_cast<double>(p.name.size()) + kNumber * (6 * n + 10) +
+                     kNumber * W * (p.is_grid ? n * spectral : 1);
+    b.fixed_bytes += sources * (64 + static_cast<double>(p.name.size()) + kNumber * n);  // per-source illuminance
+  }
+  b.fixed_bytes += sources * kElement;
+  // id, 3 vertices, area, normal, lux, cd/m², xyz, xy, rgb_ebu, srgb, srgb_encoded, melanopic: 32 numbers.
+  b.per_patch_bytes = kElement + static_cast<double>(longest_surface_name) + kNumber * (32 + 3 * W * spectral) +
+                      sources * kNumber * (2 + 2 * W * spectral);
+  return b;
 }
 
 std::string summarize(const Scene& scene, const Solution& sol, const Report& report) {

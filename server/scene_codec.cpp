@@ -82,11 +82,15 @@ DecodeResult walk(Decoder& d, const json& doc) {
 
 }  // namespace
 
-DecodeResult decode_scene(const std::string& json_text, const FileAccess& files) {
+DecodeResult decode_scene(const std::string& json_text, const FileAccess& files, const SceneLimits& limits) {
   codec::ParsedDocument parsed = codec::parse_document(json_text);
   if (!parsed.fatal.empty()) return {std::nullopt, std::move(parsed.fatal), 0};
-  Decoder decoder(files, std::move(parsed.duplicate_keys), parsed.omitted_duplicate_keys);
-  return walk(decoder, parsed.doc);
+  Decoder decoder(files, limits, std::move(parsed.duplicate_keys), parsed.omitted_duplicate_keys);
+  DecodeResult result = walk(decoder, parsed.doc);
+  if (!result.ok()) return result;
+  std::vector<DecodeError> over = check_scene_limits(*result.scene, limits);
+  if (over.empty()) return result;
+  return {std::nullopt, std::move(over), 0};
 }
 
 std::string format_errors(const std::vector<DecodeError>& errors) {

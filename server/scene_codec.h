@@ -11,6 +11,7 @@
 #include <string_view>
 #include <vector>
 
+#include "server/scene_limits.h"
 #include "solver/scene.h"
 
 namespace lambert {
@@ -42,7 +43,10 @@ struct DecodeResult {
   std::size_t error_count() const { return errors.size() + omitted_errors; }
 };
 
-DecodeResult decode_scene(const std::string& json_text, const FileAccess& files = {});
+// `limits` (server/scene_limits.h): the probe points and what the scene alone makes of the spectral
+// values and the result's size are checked here; the patch budget at solve time.
+DecodeResult decode_scene(const std::string& json_text, const FileAccess& files = {},
+                          const SceneLimits& limits = {});
 
 // "pointer: message" lines, one per error.
 std::string format_errors(const std::vector<DecodeError>& errors);

@@ -19,6 +19,7 @@
 #include <variant>
 #include <vector>
 
+#include "server/cli_common.h"
 #include "server/cli_parser.h"
 #include "server/http_server.h"
 #include "server/job_service.h"
@@ -44,6 +45,7 @@ struct ServeArgs {
   std::size_t queue_size = 64;
   double result_ttl_s = 604800;
   std::string job_memory_limit;  // empty: the machine's memory divided by the workers
+  SceneLimits scene_limits;
   bool access_log = false;
 };
 
@@ -74,6 +76,7 @@ void define_options(cli::Options& o, ServeArgs& a) {
   o.text("--job-memory-limit", a.job_memory_limit,
          "address space of each solve's process: 4G, 512M or bytes, 0 for none "
          "(default: the machine's memory divided by --threads)", "SIZE");
+  scene_limit_options(o, a.scene_limits);
   o.flag("--access-log", a.access_log, "one JSON line per request on stderr (jobs are always logged)");
 }
 
@@ -119,6 +122,7 @@ std::variant<ServeOptions, int> serve_options(const ServeArgs& a) {
   o.jobs.workers = a.workers;
   o.jobs.queue_size = a.queue_size;
   o.jobs.limits.max_patches = a.max_patches;
+  o.jobs.limits.scene = a.scene_limits;
   o.jobs.time_limit = std::chrono::duration<double>(a.job_time_limit_s);
   o.files.result_ttl = std::chrono::duration<double>(a.result_ttl_s);
   if (!a.data_dir.empty()) o.files.data_dir = std::filesystem::path(a.data_dir);

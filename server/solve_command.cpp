@@ -19,6 +19,7 @@ namespace {
 struct SolveArgs {
   std::string scene_path;
   std::string output_path;  // empty: the result goes to stdout
+  SceneLimits limits;
 };
 
 int write_solution(const SolveArgs& args, const Scene& scene, const Solution& solution) {
@@ -41,9 +42,10 @@ int write_solution(const SolveArgs& args, const Scene& scene, const Solution& so
 }
 
 int run_solve(const SolveArgs& args) {
-  const auto scene = load_scene_file("solve", args.scene_path);
+  const auto scene = load_scene_file("solve", args.scene_path, args.limits);
   if (!scene) return 2;
   SolveControl control;
+  apply_patch_budget(*scene, args.limits, 0, control);
   show_progress_on_terminal(control);
   try {
     return write_solution(args, *scene, solve(*scene, control));
@@ -64,6 +66,7 @@ cli::CommandSpec command_solve() {
             o.input("SCENE.json", args->scene_path, "the scene (docs/SPEC.md section 1)");
             o.output(args->output_path, "write the result here and the summary to stdout "
                                         "(default: the result to stdout, the summary to stderr)");
+            scene_limit_options(o, args->limits);
             return [args] { return run_solve(*args); };
           }};
 }

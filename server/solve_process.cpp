@@ -21,6 +21,7 @@ namespace {
 
 constexpr int kStatusFd = 3;  // the worker's progress and failure lines
 constexpr std::size_t kMaxStderrLine = 4096;
+constexpr std::size_t kMaxStatusBytes = 64 << 10;  // a status line (a failure's reason is short)
 
 void close_fd(int& fd) {
   if (fd >= 0) ::close(fd);
@@ -79,6 +80,10 @@ SolveProcess::SolveProcess(const std::filesystem::path& executable, const std::s
   else if (limits.scene_dir) args.insert(args.end(), {"--scene-dir", limits.scene_dir->string()});
   if (limits.max_patches) args.insert(args.end(), {"--max-patches", std::to_string(limits.max_patches)});
   if (limits.memory_bytes) args.insert(args.end(), {"--memory-limit", std::to_string(limits.memory_bytes)});
+  args.insert(args.end(), {"--max-probe-points", std::to_string(limits.scene.max_probe_points),
+                           "--max-spectral-values", std::to_string(limits.scene.max_spectral_values),
+                           "--max-result-bytes", std::to_string(limits.scene.max_result_bytes)});
+  max_result_bytes_ = limits.scene.max_result_bytes;
   std::vector<char*> argv;
   for (auto& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
@@ -185,11 +190,22 @@ bool SolveProcess::wait(std::chrono::milliseconds timeout,
         break;
       }
       if (&fd == &out_fd_) {
+        // The worker checked its result's bound before solving; this holds whatever it writes.
+        if (max_result_bytes_ > 0 && result_.size() + static_cast<std::size_t>(got) > max_result_bytes_) {
+          result_too_large_ = true;
+          result_.clear();
+          result_.shrink_to_fit();
+          close_fd(fd);
+          if (!reaped_ && !killed_) ::kill(pid_, SIGKILL);
+          break;
+        }
         result_.append(buf, static_cast<std::size_t>(got));
         continue;
       }
       std::string& pending = &fd == &status_fd_ ? status_buf_ : err_buf_;
       pending.append(buf, static_cast<std::size_t>(got));
+      if (&fd == &status_fd_ && pending.size() > kMaxStatusBytes && pending.find('\n') == std::string::npos)
+        pending.resize(kMaxStatusBytes / 2);  // a runaway line: keep its start, which says what it is
       for (std::size_t nl; (nl = pending.find('\n')) != std::string::npos;) {
         const std::string line = pending.substr(0, nl);
         pending.erase(0, nl + 1);
@@ -210,6 +226,12 @@ SolveProcessOutcome SolveProcess::outcome() const {
   using Kind = SolveProcessOutcome::Kind;
   if (killed_) {
     o.kind = Kind::Killed;
+    return o;
+  }
+  if (result_too_large_) {
+    o.kind = Kind::Failed;
+    o.reason = "the result is larger than this server's limit (" + limit_text(kMaxResultBytesName, max_result_bytes_) +
+               " bytes)";
     return o;
   }
   const bool clean_exit = WIFEXITED(wait_status_) && WEXITSTATUS(wait_status_) == 0;

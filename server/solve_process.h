@@ -17,6 +17,8 @@
 #include <string>
 #include <vector>
 
+#include "server/scene_limits.h"
+
 namespace lambert {
 
 struct SolveLimits {
@@ -26,6 +28,9 @@ struct SolveLimits {
   // The scene came from a file in this directory (`lambert batch`): its "file" surfaces resolve
   // against it, anywhere, as on the command line. Ignored with a mesh root.
   std::optional<std::filesystem::path> scene_dir;
+  // Probe points, spectral values and the result's size (server/scene_limits.h). The worker checks
+  // them before it solves; the server also stops reading a result past max_result_bytes.
+  SceneLimits scene;
 };
 
 // Why a worker process ended, as the server tells its client.
@@ -68,6 +73,8 @@ class SolveProcess {
   double progress_ = 0;
   std::optional<std::string> failed_, internal_;
   bool out_of_memory_ = false, killed_ = false, reaped_ = false;
+  std::size_t max_result_bytes_ = 0;  // 0: none
+  bool result_too_large_ = false;
   int wait_status_ = 0;
 };
 

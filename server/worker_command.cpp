@@ -22,6 +22,7 @@
 #include <optional>
 #include <sstream>
 
+#include "server/cli_common.h"
 #include "server/result_codec.h"
 #include "server/scene_codec.h"
 #include "solver/radiosity.h"
@@ -85,6 +86,8 @@ int run_solve_worker(const std::vector<std::string>& args) {
   FileAccess files;
   files.policy = FileAccess::Policy::Deny;
   SolveControl control;
+  SceneLimits limits;
+  std::size_t max_patches = 0;
   std::optional<pid_t> parent;
   std::uint64_t memory_limit = 0;
   for (std::size_t k = 0; k + 1 < args.size(); k += 2) {
@@ -98,7 +101,13 @@ int run_solve_worker(const std::vector<std::string>& args) {
       files.policy = FileAccess::Policy::Anywhere;
       files.base_dir = v;
     } else if (a == "--max-patches" && number<std::size_t>(v)) {
-      control.max_patches = *number<std::size_t>(v);
+      max_patches = *number<std::size_t>(v);
+    } else if (a == "--max-probe-points" && number<std::size_t>(v)) {
+      limits.max_probe_points = *number<std::size_t>(v);
+    } else if (a == "--max-spectral-values" && number<std::size_t>(v)) {
+      limits.max_spectral_values = *number<std::size_t>(v);
+    } else if (a == "--max-result-bytes" && number<std::size_t>(v)) {
+      limits.max_result_bytes = *number<std::size_t>(v);
     } else if (a == "--memory-limit" && number<std::uint64_t>(v)) {
       memory_limit = *number<std::uint64_t>(v);
     } else {
@@ -130,7 +139,7 @@ int run_solve_worker(const std::vector<std::string>& args) {
   std::ios::sync_with_stdio(false);  // the result can be large: no stdio lock per character
   try {
     const std::string text((std::istreambuf_iterator<char>(std::cin)), std::istreambuf_iterator<char>());
-    DecodeResult decoded = decode_scene(text, files);
+    DecodeResult decoded = decode_scene(text, files, limits);
     if (!decoded.ok()) {
       // Checked when the job was accepted: the scene, or a mesh file it names, changed since.
       const DecodeError& e = decoded.errors.front();
@@ -138,6 +147,7 @@ int run_solve_worker(const std::vector<std::string>& args) {
       return 1;
     }
     const Scene& scene = *decoded.scene;
+    apply_patch_budget(scene, limits, max_patches, control);
     ProgressReporter progress;
     control.progress = [&progress](double f) { progress(f); };
     const Solution solution = solve(scene, control);

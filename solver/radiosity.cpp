@@ -61,8 +61,11 @@ void check_patch_count(double patches, bool estimate, std::size_t solver_limit, 
   const std::string count =
       (estimate ? "at least " : "") + std::to_string(static_cast<std::size_t>(std::min(patches, 1e18)));
   if (limit == control.max_patches)
-    throw SolveError("meshing gives " + count + " patches, more than this server's limit of " +
-                     std::to_string(limit) + " (max_patches); increase meshing.max_patch_area");
+    throw SolveError("meshing gives " + count + " patches, more than " +
+                     (control.max_patches_reason.empty()
+                          ? "this server's limit of " + std::to_string(limit) + " (max_patches)"
+                          : control.max_patches_reason) +
+                     "; increase meshing.max_patch_area");
   throw SolveError("meshing gives " + count + " patches, more than this solver's limit of " + std::to_string(limit) +
                    "; increase meshing.max_patch_area (it is in the scene's units squared)");
 }

@@ -121,6 +121,9 @@ struct SolveControl {
   const std::atomic<bool>* cancel = nullptr;
   std::size_t max_patches = 0;  // a service's limit on the patch count (0: only the solver's own);
                                 // exceeding it throws SolveError, before the form factors
+  // What sets max_patches, for that message ("the 4166 patches that max_result_bytes = ... allows");
+  // empty: "this server's limit of N (max_patches)".
+  std::string max_patches_reason;
 
   bool cancelled() const { return cancel && cancel->load(std::memory_order_relaxed); }
   void check_cancel() const;  // throws SolveCancelled where cancel is set

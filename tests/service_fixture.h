@@ -65,6 +65,7 @@ struct ServiceOptions {
   std::size_t workers = 2, queue_size = 64, max_patches = 20000;
   std::chrono::duration<double> time_limit = 120s;
   std::uint64_t memory_bytes = 0;
+  SceneLimits scene_limits;  // probe points, spectral values, result size (server/scene_limits.h)
   std::optional<fs::path> data_dir;
   std::chrono::duration<double> result_ttl = std::chrono::hours(24 * 7);
   FileJobStoreOptions files() const { return {data_dir, result_ttl}; }
@@ -73,7 +74,7 @@ struct ServiceOptions {
     o.workers = workers;
     o.queue_size = queue_size;
     o.time_limit = time_limit;
-    o.limits = {mesh_root, max_patches, memory_bytes, {}};
+    o.limits = {mesh_root, max_patches, memory_bytes, {}, scene_limits};
     o.worker_executable = LAMBERT_BINARY;
     return o;
   }

@@ -107,8 +107,9 @@ std::optional<Vector3> unit_vector(const Vector3& v) {
 
 // ---- reporting --------------------------------------------------------------------------------
 
-Decoder::Decoder(const FileAccess& files, std::vector<DecodeError> prior_errors, std::size_t omitted_prior)
-    : files_(files), errors_(std::move(prior_errors)), dropped_errors_(omitted_prior) {}
+Decoder::Decoder(const FileAccess& files, const SceneLimits& limits, std::vector<DecodeError> prior_errors,
+                 std::size_t omitted_prior)
+    : files_(files), limits_(limits), errors_(std::move(prior_errors)), dropped_errors_(omitted_prior) {}
 
 void Decoder::error(std::string pointer, std::string message) {
   if (errors_.size() < kMaxListedErrors) errors_.push_back(bounded_error(std::move(pointer), std::move(message)));

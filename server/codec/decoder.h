@@ -78,7 +78,8 @@ class Decoder {
  public:
   // prior_errors: what the parse already found (duplicate keys), reported first, and how many more
   // it counted without listing them.
-  Decoder(const FileAccess& files, std::vector<DecodeError> prior_errors, std::size_t omitted_prior = 0);
+  Decoder(const FileAccess& files, const SceneLimits& limits, std::vector<DecodeError> prior_errors,
+          std::size_t omitted_prior = 0);
 
   // -- reporting: the first kMaxListedErrors errors are kept (shortened: bounded_error), the rest
   // counted; warnings likewise, the rest summed up in a last warning.
@@ -112,6 +113,7 @@ class Decoder {
   // -- what the rooms fill in and look up
   Scene& scene() { return scene_; }
   const FileAccess& files() const { return files_; }
+  const SceneLimits& limits() const { return limits_; }
   // The scene's wavelength grid; nullptr when the spectrum section is invalid (spectra are then
   // checked but not sampled).
   const WavelengthGrid* grid() const { return grid_ ? &*grid_ : nullptr; }
@@ -126,6 +128,7 @@ class Decoder {
 
  private:
   const FileAccess& files_;
+  const SceneLimits& limits_;
   Scene scene_;
   std::optional<WavelengthGrid> grid_;
   std::map<std::string, int> material_index_;  // material name -> index into scene_.materials

@@ -14,11 +14,25 @@ namespace {
 constexpr long long kMaxProbeGridSide = 10000;
 constexpr long long kMaxProbeGridPoints = 1000000;  // memory guard for one grid (24 MB of points)
 
+// The scene's probe points so far (`points`) with `more` added stay within
+// limits().max_probe_points; checked before a grid's points are allocated (100 grids of 10⁶ points
+// ended in std::bad_alloc). Counts them on success.
+bool within_probe_point_limit(Decoder& d, std::size_t& points, std::size_t more, const std::string& p) {
+  const std::size_t limit = d.limits().max_probe_points;
+  if (limit > 0 && points + more > limit) {
+    d.error(p, "the probes would have " + std::to_string(points + more) + " points in all; the limit is " +
+                   limit_text(kMaxProbePointsName, limit));
+    return false;
+  }
+  points += more;
+  return true;
+}
+
 // The points of "grid": {origin, u, v, nu, nv}; false after an error. The grid's shape (zero or
 // parallel sides, too many points) is checked only once its members and the probe's normal
 // (normal_ok) read well.
 bool decode_grid_points(Decoder& d, const json& jg, const std::string& pg, bool normal_ok,
-                        Probe& probe) {
+                        std::size_t& points, Probe& probe) {
   if (!d.object(jg, pg, {"origin", "u", "v", "nu", "nv"})) return false;
   const json* jo = d.required(jg, pg, "origin");
   const json* ju = d.required(jg, pg, "u");
@@ -43,6 +57,7 @@ bool decode_grid_points(Decoder& d, const json& jg, const std::string& pg, bool 
                     std::to_string(kMaxProbeGridPoints) + " per grid");
     return false;
   }
+  if (!within_probe_point_limit(d, points, static_cast<std::size_t>(*nu * *nv), pg)) return false;
   probe.is_grid = true;
   probe.nu = static_cast<int>(*nu);
   probe.nv = static_cast<int>(*nv);
@@ -104,7 +119,7 @@ bool decode_quantity(Decoder& d, const json& j, const std::string& p, Probe& pro
 }
 
 void decode_probe(Decoder& d, const json& j, std::size_t i,
-                  std::map<std::string, std::string>& names) {
+                  std::map<std::string, std::string>& names, std::size_t& points) {
   const std::string p = index_ptr("/probes", i);
   if (!d.object(j, p, {"name", "position", "grid", "normal", "quantity", "facing"})) return;
   Probe probe;
@@ -130,9 +145,9 @@ void decode_probe(Decoder& d, const json& j, std::size_t i,
   }
   if (jp) {
     auto q = d.point(*jp, p + "/position");
-    if (!q || !ok) return;
+    if (!q || !ok || !within_probe_point_limit(d, points, 1, p)) return;
     probe.points.push_back(d.metres(*q));
-  } else if (!decode_grid_points(d, *jg, p + "/grid", ok, probe)) {
+  } else if (!decode_grid_points(d, *jg, p + "/grid", ok, points, probe)) {
     return;
   }
   d.scene().probes.push_back(std::move(probe));
@@ -144,7 +159,8 @@ void decode_probes(Decoder& d, const json& doc) {
   const json* probes = d.member(doc, "probes");
   if (!probes || !d.array(*probes, "/probes")) return;
   std::map<std::string, std::string> names;  // name -> pointer of its first use
-  for (std::size_t i = 0; i < probes->size(); ++i) decode_probe(d, (*probes)[i], i, names);
+  std::size_t points = 0;                     // of the probes decoded so far
+  for (std::size_t i = 0; i < probes->size(); ++i) decode_probe(d, (*probes)[i], i, names, points);
 }
 
 }  // namespace lambert::codec
