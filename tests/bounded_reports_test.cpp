@@ -8,9 +8,14 @@
 
 #include <httplib.h>
 
+#include <algorithm>
+#include <chrono>
 #include <nlohmann/json.hpp>
+#include <random>
 #include <string>
+#include <vector>
 
+#include "server/codec/decoder.h"
 #include "server/scene_codec.h"
 #include "tests/child_process.h"
 
@@ -79,6 +84,48 @@ TEST(BoundedReports, AnInvalidTokenIsNotQuotedWhole) {
   ASSERT_EQ(r.errors.size(), 1u);
   EXPECT_LE(r.errors[0].message.size(), kMaxErrorTextBytes);
   EXPECT_NE(r.errors[0].message.find("invalid JSON"), std::string::npos);
+}
+
+// The banded distance (codec::edit_distance with a limit) against the full Levenshtein table, on
+// random words over a small alphabet (so that near words are common).
+TEST(BoundedReports, TheBandedEditDistanceAgreesWithTheFullTable) {
+  auto full = [](const std::string& a, const std::string& b) {
+    std::vector<std::vector<std::size_t>> t(a.size() + 1, std::vector<std::size_t>(b.size() + 1));
+    for (std::size_t i = 0; i <= a.size(); ++i) t[i][0] = i;
+    for (std::size_t j = 0; j <= b.size(); ++j) t[0][j] = j;
+    for (std::size_t i = 1; i <= a.size(); ++i)
+      for (std::size_t j = 1; j <= b.size(); ++j)
+        t[i][j] = std::min({t[i - 1][j] + 1, t[i][j - 1] + 1, t[i - 1][j - 1] + (a[i - 1] != b[j - 1])});
+    return t[a.size()][b.size()];
+  };
+  std::mt19937 rng(37);
+  auto word = [&] {
+    std::string w(rng() % 9, 'a');
+    for (char& c : w) c = static_cast<char>('a' + rng() % 3);
+    return w;
+  };
+  for (int k = 0; k < 20000; ++k) {
+    const std::string a = word(), b = word();
+    const std::size_t limit = rng() % 4, d = full(a, b);
+    EXPECT_EQ(codec::edit_distance(a, b, limit), std::min(d, limit + 1)) << a << " / " << b << " limit " << limit;
+  }
+}
+
+TEST(BoundedReports, SuggestionsStayCheapForTenThousandMisspeltMaterials) {
+  // 10⁴ materials and 10⁴ surfaces naming a misspelt one: every error used to compare its word with
+  // every material (quadratic; 5000 of each took 21 s).
+  std::string materials, surfaces;
+  for (int i = 0; i < 10000; ++i) {
+    materials += (i ? ",\"" : "\"") + std::string("material_number_") + std::to_string(i) + "\": {\"reflectance\": 0.5}";
+    surfaces += (i ? ",{" : "{") + std::string("\"material\": \"material_numbr_") + std::to_string(i) +
+                "\", \"polygon\": [[0,0,0], [1,0,0], [1,1,0], [0,1,0]]}";
+  }
+  const std::string text = "{\"materials\": {" + materials + "}, \"surfaces\": [" + surfaces + "]}";
+  const auto t0 = std::chrono::steady_clock::now();
+  const DecodeResult r = decode_scene(text);
+  EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(10));
+  EXPECT_EQ(r.error_count(), 10000u);
+  EXPECT_EQ(r.errors[0].message, "unknown material 'material_numbr_0'; did you mean 'material_number_0'?");
 }
 
 TEST(BoundedReports, TheServiceAnswersSmallAndStaysSmall) {

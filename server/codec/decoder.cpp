@@ -5,6 +5,7 @@
 #include <array>
 #include <charconv>
 #include <cmath>
+#include <limits>
 
 #include "solver/rgb_model.h"
 
@@ -58,19 +59,26 @@ std::string a_type(const json& j) {
   }
 }
 
-std::size_t edit_distance(std::string_view a, std::string_view b) {
-  std::vector<std::size_t> row(b.size() + 1);
-  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+std::size_t edit_distance(std::string_view a, std::string_view b, std::size_t limit) {
+  if (a.size() > b.size()) std::swap(a, b);
+  if (b.size() - a.size() > limit) return limit + 1;
+  constexpr std::size_t kFar = std::numeric_limits<std::size_t>::max() / 2;
+  // row[j] = distance(a[0, i), b[0, j)); cells outside the band stay "far".
+  std::vector<std::size_t> row(b.size() + 1, kFar), next(b.size() + 1, kFar);
+  for (std::size_t j = 0; j <= std::min(b.size(), limit); ++j) row[j] = j;
   for (std::size_t i = 1; i <= a.size(); ++i) {
-    std::size_t diag = row[0];
-    row[0] = i;
-    for (std::size_t j = 1; j <= b.size(); ++j) {
-      const std::size_t up = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (a[i - 1] == b[j - 1] ? 0 : 1)});
-      diag = up;
+    const std::size_t lo = i > limit ? i - limit : 0, hi = std::min(b.size(), i + limit);
+    if (lo == 0) next[0] = i;
+    else next[lo - 1] = kFar;  // the band moved right: what this buffer held there is stale
+    std::size_t best = next[0];
+    for (std::size_t j = std::max<std::size_t>(lo, 1); j <= hi; ++j) {
+      next[j] = std::min({row[j] + 1, next[j - 1] + 1, row[j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      best = std::min(best, next[j]);
     }
+    if (best > limit) return limit + 1;
+    row.swap(next);
   }
-  return row[b.size()];
+  return std::min(row[b.size()], limit + 1);
 }
 
 std::string join(const std::vector<std::string_view>& words, std::string_view last_sep) {
@@ -139,7 +147,7 @@ bool Decoder::object(const json& j, const std::string& p, const Keys& allowed) {
 void Decoder::unknown_keys(const json& j, const std::string& p, const Keys& allowed) {
   for (const auto& [k, v] : j.items()) {
     if (std::find(allowed.begin(), allowed.end(), k) != allowed.end()) continue;
-    error(key_ptr(p, k), "unknown key " + quote_text(k) + suggestion(k, allowed));
+    error(key_ptr(p, k), "unknown key " + quote_text(k) + (listing() ? suggestion(k, allowed) : ""));
   }
 }
 

@@ -42,17 +42,22 @@ std::string key_ptr(const std::string& base, std::string_view key);
 std::string index_ptr(const std::string& base, std::size_t index);
 // "an object", "a number", ... for "expected X, got Y" messages.
 std::string a_type(const json& j);
-// Levenshtein distance (insertions, deletions and substitutions of one byte each).
-std::size_t edit_distance(std::string_view a, std::string_view b);
-// "; did you mean 'x'?" for the closest candidate within edit distance 2, else "".
+// Levenshtein distance (insertions, deletions and substitutions of one byte each), or limit + 1 when
+// it exceeds `limit`: only the band |i - j| <= limit of the table is filled, O((|a| + |b|) limit).
+std::size_t edit_distance(std::string_view a, std::string_view b, std::size_t limit);
+// "; did you mean 'x'?" for the closest candidate within edit distance 2, else "". Cheap whatever the
+// scene: the word is skipped beyond 64 bytes, at most kMaxSuggestionCandidates candidates are looked
+// at, and each costs O(length) (a scene may name 10⁵ materials, each misspelt).
+inline constexpr std::size_t kMaxSuggestionCandidates = 1000;
 template <typename Range>
 std::string suggestion(std::string_view word, const Range& candidates) {
   if (word.size() > 64) return "";
-  std::size_t best = 3;
+  std::size_t best = 3, looked = 0;
   std::string_view best_word;
   for (const auto& c : candidates) {
+    if (++looked > kMaxSuggestionCandidates) break;
     const std::string_view cand(c);
-    const std::size_t d = edit_distance(word, cand);
+    const std::size_t d = edit_distance(word, cand, best - 1);
     if (d < best) best = d, best_word = cand;
   }
   return best_word.empty() ? "" : "; did you mean '" + std::string(best_word) + "'?";
@@ -84,6 +89,8 @@ class Decoder {
   // -- reporting: the first kMaxListedErrors errors are kept (shortened: bounded_error), the rest
   // counted; warnings likewise, the rest summed up in a last warning.
   void error(std::string pointer, std::string message);
+  // Whether the next error will be listed (not only counted): skip costly messages when not.
+  bool listing() const { return errors_.size() < kMaxListedErrors; }
   void warn(const std::string& pointer, const std::string& text);
 
   // -- typed access; each reports its own error and returns nullopt/false on failure

@@ -25,6 +25,13 @@ void decode_task_summary(Decoder& d, const json& j) {
   const std::vector<Probe>& probes = d.scene().probes;
   if (const json* g = d.member(j, "grids")) {
     if (!d.array(*g, p + "/grids")) return;
+    // Looked up once, not per entry: a scene may list 10⁵ names against 10⁵ probes.
+    std::map<std::string_view, int> by_name;
+    std::vector<std::string_view> grid_names;
+    for (std::size_t k = 0; k < probes.size(); ++k) {
+      by_name.emplace(probes[k].name, static_cast<int>(k));
+      if (probes[k].is_grid) grid_names.push_back(probes[k].name);
+    }
     for (std::size_t i = 0; i < g->size(); ++i) {
       const std::string pi = index_ptr(p + "/grids", i);
       const auto name = d.string((*g)[i], pi);
@@ -32,16 +39,12 @@ void decode_task_summary(Decoder& d, const json& j) {
         ok = false;
         continue;
       }
-      std::vector<std::string> grid_names;
-      int found = -1;
-      for (std::size_t k = 0; k < probes.size(); ++k) {
-        if (probes[k].is_grid) grid_names.push_back(probes[k].name);
-        if (probes[k].name == *name) found = static_cast<int>(k);
-      }
+      const auto it = by_name.find(*name);
+      const int found = it == by_name.end() ? -1 : it->second;
       if (found < 0 || !probes[found].is_grid) {
         d.error(pi, (found < 0 ? "no probe is named " : "probe " + quote_text(*name) + " is a point, not a grid; ") +
                         (found < 0 ? quote_text(*name) : std::string("the summary takes grids")) +
-                        suggestion(*name, grid_names));
+                        (d.listing() ? suggestion(*name, grid_names) : ""));
         ok = false;
       } else {
         options.grids.push_back(found);

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <limits>
 #include <map>
+#include <ranges>
 #include <utility>
 
 #include "mesh/mesh_ops.h"
@@ -309,9 +310,8 @@ int material_of(Decoder& d, const json& j, const std::string& p) {
   const std::map<std::string, int>& index = d.material_index();
   auto it = index.find(*s);
   if (it != index.end()) return it->second;
-  std::vector<std::string> known;
-  for (const auto& [k, v] : index) known.push_back(k);
-  d.error(p + "/material", "unknown material " + quote_text(*s) + suggestion(*s, known));
+  d.error(p + "/material",
+          "unknown material " + quote_text(*s) + (d.listing() ? suggestion(*s, std::views::keys(index)) : ""));
   return 0;
 }
 
