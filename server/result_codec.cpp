@@ -282,6 +282,14 @@ ResultSizeBound result_size_bound(const Scene& scene) {
     b.fixed_bytes += sources * (64 + static_cast<double>(p.name.size()) + kNumber * n);  // per-source illuminance
   }
   b.fixed_bytes += sources * kElement;
+  // The evaluations (evaluation_codec.h): a task summary's line per grid it lists, and per glare
+  // observer its UGR and a line for every light or emitting surface it may see.
+  if (scene.task_summary)
+    for (int k : scene.task_summary->grids)
+      b.fixed_bytes += kElement + static_cast<double>(scene.probes.at(static_cast<std::size_t>(k)).name.size()) + kNumber * 8;
+  const double luminaires = static_cast<double>(scene.lights.size() + emitters);
+  for (const GlareObserver& g : scene.glare)
+    b.fixed_bytes += kElement + static_cast<double>(g.name.size()) + kNumber * 3 + luminaires * (kElement + kNumber * 8);
   // id, 3 vertices, area, normal, lux, cd/m², xyz, xy, rgb_ebu, srgb, srgb_encoded, melanopic: 32 numbers.
   b.per_patch_bytes = kElement + static_cast<double>(longest_surface_name) + kNumber * (32 + 3 * W * spectral) +
                       sources * kNumber * (2 + 2 * W * spectral);
