@@ -240,7 +240,7 @@ TEST(Glb, ParsesBackToTheExportedVertices) {
   EXPECT_EQ(g.doc["asset"]["version"], "2.0");
   EXPECT_EQ(g.doc["extensionsUsed"], json::array({"KHR_materials_unlit"}));
   EXPECT_TRUE(g.doc["materials"][0]["extensions"].contains("KHR_materials_unlit"));
-  ASSERT_EQ(g.doc["meshes"].size(), 2u);
+  ASSERT_EQ(g.doc["meshes"].size(), 4u);  // the two surfaces, then the two probes
   EXPECT_NEAR(g.doc["scenes"][0]["extras"]["white_cd_m2"].get<double>(), mesh.white_cd_m2, 1e-9 * mesh.white_cd_m2);
   for (std::size_t k = 0; k < 2; ++k) {
     SCOPED_TRACE(k);
@@ -270,6 +270,41 @@ TEST(Glb, ParsesBackToTheExportedVertices) {
     const json& indices = g.doc["accessors"][primitive["indices"].get<int>()];
     EXPECT_EQ(indices["componentType"], 5125);
     EXPECT_EQ(indices["count"].get<std::size_t>(), surface.indices.size());
+  }
+}
+
+// The probes follow the surfaces as point clouds, in metres, with their illuminance and (in the
+// node's extras) the grid's shape; the positions against the scene's own grid formula (SPEC §5).
+TEST(Glb, ProbesArePointCloudsInMetresWithTheirIlluminance) {
+  const Solved& s = lit_corner();
+  const Glb g = parse_glb(export_result(s.result_json, ExportFormat::Glb, {Shading::Flat, std::nullopt}));
+  ASSERT_EQ(g.doc["nodes"].size(), 4u);
+  EXPECT_EQ(g.doc["scenes"][0]["nodes"], json::array({0, 1, 2, 3}));
+  const json& grid = g.doc["nodes"][2];
+  EXPECT_EQ(grid["name"], "work, \"plane\"");
+  EXPECT_EQ(grid["extras"], json({{"probe", "grid"}, {"nu", 4}, {"nv", 3}}));
+  EXPECT_EQ(g.doc["nodes"][3]["extras"], json({{"probe", "point"}, {"nu", 1}, {"nv", 1}}));
+  for (int k = 0; k < 2; ++k) {
+    SCOPED_TRACE(k);
+    const json& primitive = g.doc["meshes"][g.doc["nodes"][2 + k]["mesh"].get<int>()]["primitives"][0];
+    EXPECT_EQ(primitive["mode"], 0);  // POINTS
+    EXPECT_FALSE(primitive.contains("indices"));
+    const std::vector<float> P = floats(g, primitive["attributes"]["POSITION"]);
+    const std::vector<float> E = floats(g, primitive["attributes"]["_ILLUMINANCE_LX"]);
+    const std::vector<double>& expected = s.report.probes[k].illuminance_lx;
+    ASSERT_EQ(E.size(), expected.size());
+    for (std::size_t q = 0; q < E.size(); ++q) EXPECT_EQ(E[q], float(expected[q]));
+    if (k == 1) {
+      EXPECT_EQ(P, (std::vector<float>{0.5f, 0.5f, 0.5f}));  // the desk probe at (500, 500, 500) mm
+      continue;
+    }
+    for (std::size_t q = 0; q < E.size(); ++q) {
+      // origin + (u + ½)/nu · u⃗ + (v + ½)/nv · v⃗, millimetres to metres.
+      const double u = q % 4, v = q / 4;
+      EXPECT_FLOAT_EQ(P[3 * q + 0], float((100 + (u + 0.5) / 4 * 800) / 1000));
+      EXPECT_FLOAT_EQ(P[3 * q + 1], float(1.0 / 1000));
+      EXPECT_FLOAT_EQ(P[3 * q + 2], float((100 + (v + 0.5) / 3 * 800) / 1000));
+    }
   }
 }
 

@@ -82,6 +82,12 @@ ExportMesh export_mesh(const ResultModel& model, const ExportOptions& options) {
       welders[surface[i]].add(out);
     }
   }
+  for (const ResultProbe& p : model.probes) {
+    ExportProbe& out = mesh.probes.emplace_back(ExportProbe{p.name, p.is_grid, p.nu, p.nv, {}, {}});
+    for (const Point3& q : p.points)
+      out.position_m.push_back({float(q.x * model.unit_m), float(q.y * model.unit_m), float(q.z * model.unit_m)});
+    for (double E : p.illuminance_lx) out.illuminance_lx.push_back(float(E));
+  }
   return mesh;
 }
 

@@ -17,6 +17,7 @@ using json = nlohmann::json;
 // glTF's enums (the WebGL constants).
 enum ComponentType : int { kFloat = 5126, kUnsignedInt = 5125 };
 enum BufferTarget : int { kArrayBuffer = 34962, kElementArrayBuffer = 34963 };
+enum PrimitiveMode : int { kPoints = 0 };
 constexpr std::uint32_t kGlbMagic = 0x46546C67;  // "glTF"
 constexpr std::uint32_t kGlbVersion = 2;
 constexpr std::uint32_t kChunkJson = 0x4E4F534A;  // "JSON"
@@ -90,6 +91,18 @@ std::string write_glb(const ExportMesh& mesh) {
     meshes.push_back({{"name", s.name}, {"primitives", {{{"attributes", attributes}, {"indices", indices}, {"material", 0}}}}});
     roots.push_back(nodes.size());
     nodes.push_back({{"name", s.name}, {"mesh", meshes.size() - 1}});
+  }
+  // Probes as point clouds (mode 0, POINTS): a glTF viewer shows where they are, and Lambert's own
+  // viewer reads each grid's nu × nv from the node's extras to draw its isolux lines.
+  for (const ExportProbe& p : mesh.probes) {
+    if (p.position_m.empty()) continue;
+    const std::size_t n = p.position_m.size();
+    json attributes = {{"POSITION", b.add(p.position_m.data(), n, 3, kFloat, kArrayBuffer, true)},
+                       {"_ILLUMINANCE_LX", b.add(p.illuminance_lx.data(), n, 1, kFloat, kArrayBuffer, true)}};
+    meshes.push_back({{"name", p.name}, {"primitives", {{{"attributes", attributes}, {"mode", kPoints}}}}});
+    roots.push_back(nodes.size());
+    nodes.push_back({{"name", p.name}, {"mesh", meshes.size() - 1},
+                     {"extras", {{"probe", p.is_grid ? "grid" : "point"}, {"nu", p.nu}, {"nv", p.nv}}}});
   }
   json doc = {
       {"asset", {{"version", "2.0"}, {"generator", "Lambert " LAMBERT_VERSION " (lambert export)"}}},
