@@ -33,6 +33,7 @@
 #include "server/log.h"
 #include "server/metrics.h"
 #include "server/result_views.h"
+#include "server/viewer_assets.h"
 
 #ifndef LAMBERT_VERSION
 #define LAMBERT_VERSION "unknown"
@@ -226,6 +227,7 @@ std::vector<Route> make_routes() {
                                route("/v1/openapi.json", {"GET"}),
                                route("/v1/schema/scene.json", {"GET"})};
   for (const ResultView& view : result_views()) routes.push_back(route("/v1/jobs/*/" + view.file, {"GET"}));
+  for (const ViewerAsset& asset : viewer_assets()) routes.push_back(route(asset.path, {"GET"}));
   return routes;
 }
 
@@ -410,6 +412,11 @@ void HttpServer::Impl::install() {
   for (const ResultView& view : result_views())
     server.Get(R"(/v1/jobs/([^/]+)/)" + escape_dots(view.file),
                [this, &view](const httplib::Request& req, httplib::Response& res) { get_result(req, res, &view); });
+  // The browser viewer (viewer_assets.h): each file at its own path, nothing else under /viewer/.
+  for (const ViewerAsset& asset : viewer_assets())
+    server.Get(escape_dots(asset.path), [&asset](const httplib::Request&, httplib::Response& res) {
+      res.set_content(asset.bytes.data(), asset.bytes.size(), asset.media_type.c_str());
+    });
   server.Get("/v1/health", [this](const httplib::Request&, httplib::Response& res) { health(res); });
   server.Get("/v1/metrics", [this](const httplib::Request&, httplib::Response& res) { metrics(res); });
   server.Get("/v1/openapi.json", [](const httplib::Request&, httplib::Response& res) {

@@ -41,10 +41,37 @@ TEST(Http, ServesTheContractDocumentsFromTheRepository) {
   EXPECT_EQ(json::parse(schema->body).value("$schema", ""), "https://json-schema.org/draft/2020-12/schema");
 }
 
+// The browser viewer's files, byte for byte as they are in the repository and as npm installed
+// three.js (tests/viewer_test.mjs runs the page in Chromium).
+TEST(Http, ServesTheBrowserViewerAndThreeJsAsNpmShipsIt) {
+  TestServer server;
+  auto cli = server.client();
+  const std::pair<std::string, fs::path> files[] = {
+      {"/", kSource / "server/viewer/index.html"},
+      {"/viewer/app.js", kSource / "server/viewer/app.js"},
+      {"/viewer/three/three.module.js", kSource / "tools/node_modules/three/build/three.module.js"},
+      {"/viewer/three/addons/loaders/GLTFLoader.js", kSource / "tools/node_modules/three/examples/jsm/loaders/GLTFLoader.js"}};
+  for (const auto& [path, file] : files) {
+    SCOPED_TRACE(path);
+    auto r = cli->Get(path);
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->status, 200);
+    EXPECT_EQ(r->body, read_text(file));
+    EXPECT_EQ(r->get_header_value("Content-Type"),
+              path == "/" ? "text/html; charset=utf-8" : "text/javascript; charset=utf-8");
+  }
+  expect_error(cli->Get("/viewer/"), 404, "not_found");
+  expect_error(cli->Get("/viewer/three/build/three.cjs"), 404, "not_found");
+  expect_error(cli->Get("/index.html"), 404, "not_found");
+  auto r = cli->Post("/", "{}", "application/json");
+  expect_error(r, 405, "method_not_allowed");
+  EXPECT_EQ(r->get_header_value("Allow"), "GET, HEAD");
+  expect_alive(server);
+}
+
 TEST(Http, UnknownPathsAre404AndWrongMethods405) {
   TestServer server;
   auto cli = server.client();
-  expect_error(cli->Get("/"), 404, "not_found");
   expect_error(cli->Get("/v1/healthz"), 404, "not_found");
   expect_error(cli->Get("/v1/health/"), 404, "not_found");
   expect_error(cli->Post("/v2/solve", "{}", "application/json"), 404, "not_found");

@@ -169,7 +169,7 @@ if (openapi) {
     "/v1/solve": ["post"], "/v1/jobs": ["post"], "/v1/jobs/{id}": ["get", "delete"],
     "/v1/jobs/{id}/result": ["get"], "/v1/jobs/{id}/result.glb": ["get"], "/v1/jobs/{id}/result.ply": ["get"],
     "/v1/jobs/{id}/result.csv": ["get"], "/v1/health": ["get"], "/v1/metrics": ["get"], "/v1/openapi.json": ["get"],
-    "/v1/schema/scene.json": ["get"],
+    "/v1/schema/scene.json": ["get"], "/": ["get"],
   };
   const paths = openapi.paths ?? {};
   check(JSON.stringify(Object.keys(paths).sort()) === JSON.stringify(Object.keys(routes).sort()),

@@ -1,13 +1,16 @@
 #!/usr/bin/env bash
 # Installs what Lambert builds and tests with, if any of it is missing: the Debian 12 packages
-# (apt-get; sudo when not root), and the npm packages of the contract test (tests/schema_test.sh)
-# into tools/node_modules, exactly as pinned by tools/package-lock.json.
+# (apt-get; sudo when not root), and the npm packages into tools/node_modules, exactly as pinned by
+# tools/package-lock.json: three.js (compiled into the binary for the browser viewer), the contract
+# and export validators, and playwright-core, which drives Debian's chromium in tests/viewer_test.mjs
+# (it downloads no browser).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 packages=(build-essential cmake ninja-build pkg-config
           libcgal-dev libopenmesh-dev libembree-dev libcpp-httplib-dev nlohmann-json3-dev
           libcli11-dev libcairo2-dev fonts-dejavu-core libpng-dev libgtest-dev libbenchmark-dev curl
-          libpq-dev postgresql python3-prometheus-client)
+          libpq-dev postgresql python3-prometheus-client
+          chromium)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
