@@ -1,6 +1,6 @@
-// Exact configuration factors from Howell's catalogue (../shared/REFERENCES.md V1, V3, V4): the
-// independent answers that the tests and `lambert bench` compare the solver against. The solver
-// itself never calls them.
+// Exact configuration factors from Howell's catalogue (../shared/REFERENCES.md V1, V3, V4), and the
+// second moment that a graded sky adds to B-3: the independent answers that the tests and
+// `lambert bench` compare the solver against. The solver itself never calls them.
 #pragma once
 
 #include <cmath>
@@ -38,13 +38,32 @@ inline double howell_b3(double X, double Y) {
           Y / std::sqrt(1 + Y * Y) * std::atan(X / std::sqrt(1 + Y * Y)));
 }
 
+// The second moment ∫ cos² θ dω of a rectangle seen from an element parallel to it, its normal through
+// a corner (the set-up of B-3, X = a/c, Y = b/c): with u = x/c, v = y/c, cos θ = c/r and dω = c dA/r³,
+//   ∫∫_{[0,X]×[0,Y]} (1 + u² + v²)^(-5/2) du dv = [atan(XY/D) + (XY/D)(1/(1 + X²) + 1/(1 + Y²))] / 3,
+// D = √(1 + X² + Y²) (derived here by integrating in v, then u; checked against a double quadrature
+// to 1e-15, and its limit over the hemisphere, 4 × π/6 = 2π/3 = ∫ cos² θ dω). It is what the CIE
+// overcast sky, L = L_z (1 + 2 cos Z)/3, adds to B-3 through a horizontal opening above a horizontal
+// element: E = (L_z/3)(π F + 2 M).
+inline double second_moment_b3(double X, double Y) {
+  const double D = std::sqrt(1 + X * X + Y * Y);
+  return (std::atan(X * Y / D) + X * Y / D * (1 / (1 + X * X) + 1 / (1 + Y * Y))) / 3;
+}
+
+// A point at (px, py, 0) facing +z under the axis-aligned rectangle [x0,x1]×[y0,y1] at height h: a
+// corner factor f (howell_b3, second_moment_b3) by signed corner decomposition.
+template <class CornerFactor>
+double under_rectangle(CornerFactor f, double px, double py, double h, double x0, double x1, double y0, double y1) {
+  auto corner = [&](double x, double y) {  // signed value of [px, x] × [py, y]
+    return (x >= px ? 1 : -1) * (y >= py ? 1 : -1) * f(std::abs(x - px) / h, std::abs(y - py) / h);
+  };
+  return corner(x1, y1) - corner(x0, y1) - corner(x1, y0) + corner(x0, y0);
+}
+
 // A point at (px, py, 0) facing +z, an axis-aligned rectangle [x0,x1]×[y0,y1] at height h: B-3 by
 // signed corner decomposition (V1, "a rectangle in general position").
 inline double point_under_rectangle(double px, double py, double h, double x0, double x1, double y0, double y1) {
-  auto corner = [&](double x, double y) {  // signed factor of [px, x] × [py, y]
-    return (x >= px ? 1 : -1) * (y >= py ? 1 : -1) * howell_b3(std::abs(x - px) / h, std::abs(y - py) / h);
-  };
-  return corner(x1, y1) - corner(x0, y1) - corner(x1, y0) + corner(x0, y0);
+  return under_rectangle(howell_b3, px, py, h, x0, x1, y0, y1);
 }
 
 }  // namespace lambert::closed_form

@@ -34,5 +34,7 @@ using closed_form::howell_b3;
 using closed_form::howell_c11;
 using closed_form::howell_c14;
 using closed_form::point_under_rectangle;
+using closed_form::second_moment_b3;
+using closed_form::under_rectangle;
 
 }  // namespace lambert::test
