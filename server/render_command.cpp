@@ -84,7 +84,11 @@ std::function<std::array<double, 3>(std::size_t, const Point3&, const Vector3&)>
   if (!any_lobe) return {};
   for (const Patch& p : sol.patches) s->triangles.push_back(p.triangle);
   s->vis = std::make_unique<Visibility>(s->triangles);
-  for (const Light& l : scene.lights) s->lights.push_back(make_light_model(l));
+  // The lobes are drawn for lights that come from one direction (a sky, like ambient light, has none).
+  for (const Light& l : scene.lights)
+    s->lights.push_back(std::holds_alternative<DirectionalLight>(l) || std::holds_alternative<PointLight>(l)
+                            ? make_light_model(l)
+                            : nullptr);
   for (std::size_t j = 0; j < sol.patches.size(); ++j) {
     const auto& e = scene.surfaces[sol.patches[j].surface].emission;
     if (e && e->lobe_exponent == 1.0) s->emitters.push_back(j);

@@ -63,7 +63,6 @@ json patch_json(const Scene& scene, const Solution& sol, const Report& report, s
   return j;
 }
 
-
 // The method's own stats (SPEC §5), beside the common ones.
 json method_stats(const SolveStats& st) {
   if (st.method == SolverMethod::Dense)
@@ -73,6 +72,71 @@ json method_stats(const SolveStats& st) {
           {"leaf_links", h.leaf_links},       {"leaf_links_traced", h.leaf_links_traced},
           {"leaf_links_exact", h.leaf_links_exact}, {"crowded_links", h.crowded_links},
           {"refine_rounds", h.refine_rounds}};
+}
+
+const char* en17037_level_name(En17037Request::Level level) {
+  switch (level) {
+    case En17037Request::Level::kMinimum: return "minimum";
+    case En17037Request::Level::kMedium: return "medium";
+    case En17037Request::Level::kHigh: return "high";
+  }
+  return "minimum";
+}
+
+// The skies and suns of "daylight" (SPEC §5 "Daylight").
+json daylight_json(const Scene& scene, const DaylightReport& daylight) {
+  const std::size_t W = scene.grid.size();
+  json skies = json::array(), suns = json::array();
+  for (const SkyReport& sky : daylight.skies) {
+    json j = {{"source", scene.light_pointers.at(sky.light)},
+              {"horizontal_factor_sr", sky.horizontal_factor_sr},
+              {"zenith_luminance_cd_m2", sky.zenith_luminance_cd_m2},
+              {"unobstructed_illuminance_lx", {{"sky", sky.sky_illuminance_lx}, {"ground", sky.ground_illuminance_lx}}}};
+    if (scene.output.spectral)
+      j["unobstructed_irradiance"] = {{"sky", spectrum_json(sky.sky_irradiance.data(), W)},
+                                      {"ground", spectrum_json(sky.ground_irradiance.data(), W)}};
+    skies.push_back(std::move(j));
+  }
+  for (const SunReport& sun : daylight.suns)
+    suns.push_back({{"source", scene.light_pointers.at(sun.light)},
+                    {"latitude_deg", sun.placement.latitude_deg},
+                    {"longitude_deg", sun.placement.longitude_deg},
+                    {"time", sun.placement.time},
+                    {"elevation_deg", sun.placement.elevation_deg},
+                    {"azimuth_deg", sun.placement.azimuth_deg},
+                    {"towards", json::array({sun.towards.x, sun.towards.y, sun.towards.z})},
+                    {"normal_illuminance_lx", sun.normal_illuminance_lx},
+                    {"normal_illuminance_from", sun.placement.clear_sky_illuminance ? "clear_sky_model" : "scene"}});
+  return {{"skies", std::move(skies)}, {"suns", std::move(suns)}};
+}
+
+// A probe's daylight metrics, added to its result object.
+void probe_daylight_json(const ProbeDaylight& d, bool grid, json& j) {
+  auto values = [&](const std::vector<double>& v) { return grid ? json(v) : json(v.at(0)); };
+  if (!d.daylight_factor_pct.empty()) {
+    j["daylight_factor_pct"] = values(d.daylight_factor_pct);
+    j["daylight_factor"] = {{"min_pct", d.min_pct},
+                            {"mean_pct", d.mean_pct},
+                            {"median_pct", d.median_pct},
+                            {"max_pct", d.max_pct},
+                            {"target_pct", d.target_pct},
+                            {"share_at_or_above_target", d.share_at_or_above_target}};
+  }
+  if (d.en17037) {
+    const En17037Summary& e = *d.en17037;
+    j["en17037"] = {{"level", en17037_level_name(e.request.level)},
+                    {"median_external_diffuse_illuminance_lx", e.request.median_external_diffuse_illuminance_lx},
+                    {"target_illuminance_lx", e.target_illuminance_lx},
+                    {"minimum_target_illuminance_lx", e.minimum_target_illuminance_lx},
+                    {"target_daylight_factor_pct", e.target_daylight_factor_pct},
+                    {"minimum_target_daylight_factor_pct", e.minimum_target_daylight_factor_pct},
+                    {"daylight_factor_over_50_pct_of_points", e.daylight_factor_over_50_pct},
+                    {"daylight_factor_over_95_pct_of_points", e.daylight_factor_over_95_pct},
+                    {"target_met", e.target_met},
+                    {"minimum_target_met", e.minimum_met},
+                    {"met", e.target_met && e.minimum_met}};
+  }
+  if (!d.vertical_sky_component_pct.empty()) j["vertical_sky_component_pct"] = values(d.vertical_sky_component_pct);
 }
 
 }  // namespace
@@ -156,10 +220,12 @@ void write_result(std::ostream& os, const Scene& scene, const Solution& sol, con
       j["max_lx"] = ps.max_lx;
       j["uniformity"] = {{"min_over_mean", ps.min_over_mean}, {"min_over_max", ps.min_over_max}};
     }
+    if (report.daylight && report.daylight->probes.at(k)) probe_daylight_json(*report.daylight->probes[k], probe.is_grid, j);
     probes.push_back(std::move(j));
   }
   out["probes"] = std::move(probes);
   write_evaluations(out, scene, sol, report);
+  if (report.daylight) out["daylight"] = daylight_json(scene, *report.daylight);
 
   if (!sol.contributions.empty()) {
     json sources = json::array();

@@ -92,6 +92,25 @@ struct LightContext {
 
 std::unique_ptr<LightModel> make_light_model(const Light& light, const LightContext& context = {});
 
+// A scene's LightContext with the storage it points into: the scene's input triangles in metres and
+// the solids they bound, gathered only where one of its lights needs them (a sky), else empty (but
+// has_scene: every light can be made). Pointers into itself: neither copied nor moved.
+class SceneLightContext {
+ public:
+  explicit SceneLightContext(const Scene& scene);
+  SceneLightContext(const SceneLightContext&) = delete;
+  SceneLightContext& operator=(const SceneLightContext&) = delete;
+  const LightContext& context() const { return context_; }
+
+ private:
+  std::vector<Triangle> triangles_;
+  OutwardSolids solids_;
+  LightContext context_;
+};
+
+// Every light of the scene as its model, in order.
+std::vector<std::unique_ptr<LightModel>> make_scene_light_models(const Scene& scene);
+
 // The factories behind make_light_model, one per model file in solver/lights/.
 std::unique_ptr<LightModel> make_ambient_light(const AmbientLight& light);          // ambient.cpp
 std::unique_ptr<LightModel> make_directional_light(const DirectionalLight& light);  // directional.cpp

@@ -155,8 +155,7 @@ std::vector<double> direct_irradiance_totals(const Scene& scene, const std::vect
     for (std::size_t w = 0; w < W; ++w) t += scene.grid.weight_nm[w] * spectrum[w];
     return t;
   };
-  std::vector<std::unique_ptr<LightModel>> sources;
-  for (const Light& light : scene.lights) sources.push_back(make_light_model(light));
+  std::vector<std::unique_ptr<LightModel>> sources = make_scene_light_models(scene);
   std::vector<std::size_t> emitters;  // Lambertian emitting patches
   for (std::size_t i = 0; i < N; ++i)
     if (scene.surfaces[patches[i].surface].emission) emitters.push_back(i);

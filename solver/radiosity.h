@@ -30,6 +30,10 @@ struct Patch {
 
 struct ProbeResult {
   std::vector<double> irradiance;  // [point][λ] flat, W m^-2 nm^-1
+  // Per point, where the probe asks for the vertical sky component (Probe::daylight): the part of the
+  // sky's unobstructed horizontal illuminance that reaches the point straight from the sky it sees,
+  // ∫_{visible sky} (L/L_z)(ω) (n·ω) dω / K (solver/pipeline/daylight.h). Empty otherwise.
+  std::vector<double> sky_component;
 };
 
 // What a solve measured: the fields every method fills, then each method's own (stats.dense,

@@ -143,6 +143,10 @@ Report make_report(const Scene& scene, const Solution& sol) {
       }
     }
   }
+  std::vector<std::vector<double>> probe_lux;
+  for (const ProbeSummary& p : report.probes) probe_lux.push_back(p.illuminance_lx);
+  report.daylight = make_daylight_report(scene, sol, probe_lux,
+                                         [&](const std::vector<double>& s) { return photometer.luminous(s); });
   return report;
 }
 

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "solver/daylight_report.h"
 #include "solver/radiosity.h"
 
 namespace lambert {
@@ -59,6 +60,7 @@ struct Report {
   std::vector<SurfaceSummary> surfaces;
   std::vector<ProbeSummary> probes;
   std::vector<SourceReport> sources;
+  std::optional<DaylightReport> daylight;  // skies, suns and the probes' daylight metrics, if any
 };
 
 Report make_report(const Scene& scene, const Solution& solution);

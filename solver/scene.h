@@ -57,11 +57,24 @@ struct Surface {
   std::vector<char> two_sided;
 };
 
+// Where a sun placed by place and time stands (solver/lights/solar_position.h: NOAA's algorithm), as
+// the decoder found it: kept for the result, which states the sun a light was given.
+struct SunPlacement {
+  double latitude_deg = 0, longitude_deg = 0;
+  std::string time;                 // ISO 8601, as given
+  double elevation_deg = 0;         // above the horizon, with refraction
+  double azimuth_deg = 0;           // clockwise from north
+  // Whether the normal illuminance came from the clear-sky model (clear_sky_normal_illuminance_lx)
+  // rather than from the scene (a directional light only).
+  bool clear_sky_illuminance = false;
+};
+
 // Light sources (SPEC §1 "Light models"). Spectra are absolute after photometric scaling.
 struct AmbientLight { std::vector<double> irradiance_W_m2_nm; };
 struct DirectionalLight {
   Vector3 direction;                // unit, the direction the light travels
   std::vector<double> irradiance_W_m2_nm;  // on a plane perpendicular to the beam
+  std::optional<SunPlacement> sun;  // where the direction came from "sun"
 };
 struct Attenuation { double c1 = 0, c2 = 0, c3 = 1; };  // E = I cos α / (c1 + c2 r + c3 r²); default 1/r²
 // Point-like sources: isotropic point (exponent 0, no axis), goniometric cos^m (Warn: m = 1),
@@ -87,8 +100,25 @@ struct SkyLight {
   std::optional<Vector3> sun;       // unit, towards the sun (the skies whose distribution depends on it)
   double ground_reflectance = 0.2;  // ρ_g in [0, 1]
   std::vector<double> zenith_radiance_W_m2_sr_nm;  // L_z(λ)
+  std::optional<SunPlacement> sun_placement;       // where `sun` came from "sun" (for the result)
 };
-using Light = std::variant<AmbientLight, DirectionalLight, PointLight>;
+using Light = std::variant<AmbientLight, DirectionalLight, PointLight, SkyLight>;
+
+// EN 17037's recommendation for daylight provision through a daylight factor (its Annex A): a target
+// illuminance E_T over 50 % of the reference plane and a minimum target E_TM over 95 %, here as the
+// daylight factors D = E / E_v,d,med for the site's median external diffuse illuminance.
+struct En17037Request {
+  enum class Level { kMinimum, kMedium, kHigh } level = Level::kMinimum;
+  double median_external_diffuse_illuminance_lx = 0;  // E_v,d,med > 0
+};
+
+// Daylight metrics a probe asks for (SPEC §5 "Daylight"); each needs the scene's one sky.
+struct DaylightRequest {
+  bool daylight_factor = false;      // DF = E / E_h per point, with statistics
+  double target_pct = 2;             // the share of points with DF at or above it is reported
+  std::optional<En17037Request> en17037;  // with daylight_factor, on a grid
+  bool vertical_sky_component = false;    // the direct sky's share of E_h on a vertical plane
+};
 
 // What a probe measures (SPEC §5 "quantity", solver/receiver.h): planar (the default) and vertical
 // are the illuminance of a plane facing `normal` (vertical names the check, with `normal` usually
@@ -116,6 +146,7 @@ struct Probe {
   int nu = 1, nv = 1;
   ProbeQuantity quantity = ProbeQuantity::Planar;
   Vector3 facing;                   // unit, perpendicular to normal: semicylindrical only
+  DaylightRequest daylight;
 };
 
 // The task-area summary (SPEC §5 "task_summary", solver/task_summary.h): EN 12464-1's checks of

@@ -202,7 +202,7 @@ TEST(HardCases, BoxStandingOnALitFloor) {
   b.surface("wall+y", black, rectangle({-0.3, 0.3, 0}, {0, 0, 0.5}, {0.6, 0, 0}));
   b.surface("wall-y", black, rectangle({-0.3, -0.3, 0}, {0.6, 0, 0}, {0, 0, 0.5}));
   b.surface("top", black, rectangle({-0.3, -0.3, 0.5}, {0.6, 0, 0}, {0, 0.6, 0}));
-  b.scene().lights.push_back(DirectionalLight{{0, 0, -1}, {1.0}});
+  b.scene().lights.push_back(DirectionalLight{{0, 0, -1}, {1.0}, std::nullopt});
   b.scene().light_pointers.push_back("/lights/0");
   b.max_patch_area(0.1);  // a handful of floor patches: without the cut they straddle x = 0.3
   const Solution sol = solve(b.scene());
@@ -287,7 +287,7 @@ TEST(HardCases, TwoSidedSheetOfZeroThicknessCastsAShadow) {
     b.surface("floor", black, rectangle({-2, -2, 0}, {4, 0, 0}, {0, 4, 0}));
     b.surface("sheet top", black, rectangle({-0.5, -0.5, 1}, {1, 0, 0}, {0, 1, 0}));
     b.surface("sheet bottom", black, rectangle({-0.5, -0.5, 1}, {0, 1, 0}, {1, 0, 0}));
-    b.scene().lights.push_back(DirectionalLight{{0, 0, -1}, {1.0}});
+    b.scene().lights.push_back(DirectionalLight{{0, 0, -1}, {1.0}, std::nullopt});
     b.scene().light_pointers.push_back("/lights/0");
     b.max_patch_area(0.05);
     b.scene().solver.method = method;

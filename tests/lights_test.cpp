@@ -135,7 +135,7 @@ TEST(Lights, P4SpotAtPointsAndFlux) {
 
 TEST(Lights, P5Directional) {
   // E = E_perp max(0, cos α), E_perp = 1000; the beam travels straight down.
-  const Light l = DirectionalLight{kDown, {1000}};
+  const Light l = DirectionalLight{kDown, {1000}, std::nullopt};
   const auto model = make_light_model(l);
   for (const auto& [deg, E] : {std::pair{0.0, 1000.0}, {30.0, 866.0254038}, {60.0, 500.0}, {89.0, 17.45240644},
                                {90.0, 0.0}, {120.0, 0.0}}) {

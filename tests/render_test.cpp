@@ -38,7 +38,7 @@ Solution ambient_floor(SceneBuilder& b, double rho_left, double rho_right, doubl
   const int left = b.material("left", rho_left), right = b.material("right", rho_right);
   b.surface("left", left, rectangle({-0.5, -0.5, 0}, {0.5, 0, 0}, {0, 1, 0}));
   b.surface("right", right, rectangle({0, -0.5, 0}, {0.5, 0, 0}, {0, 1, 0}));
-  b.scene().lights.push_back(AmbientLight{std::vector<double>(b.scene().grid.size(), E)});
+  b.scene().lights.emplace_back(std::in_place_type<AmbientLight>, AmbientLight{std::vector<double>(b.scene().grid.size(), E)});
   b.max_patch_area(0.02);
   return solve(b.scene());
 }
@@ -104,7 +104,7 @@ TEST(Render, ACameraOutsideAClosedRoomSeesIntoIt) {
   const int floor_material = b.material("floor", 0.8), rest = b.material("rest", 0.1);
   b.surface("floor", floor_material, rectangle({0, 0, 0}, {1, 0, 0}, {0, 1, 0}));
   b.surface("ceiling", rest, rectangle({0, 0, 1}, {0, 1, 0}, {1, 0, 0}));
-  b.scene().lights.push_back(AmbientLight{std::vector<double>(b.scene().grid.size(), 1.0)});
+  b.scene().lights.emplace_back(std::in_place_type<AmbientLight>, AmbientLight{std::vector<double>(b.scene().grid.size(), 1.0)});
   b.max_patch_area(0.05);
   const Solution sol = solve(b.scene());
   const Report report = make_report(b.scene(), sol);

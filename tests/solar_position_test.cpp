@@ -55,6 +55,33 @@ TEST(SolarPosition, NrelSpaPublishedExample) {
   EXPECT_NEAR(sun.azimuth_deg, 194.34024, 0.005);
 }
 
+TEST(SolarPosition, NoaaSpreadsheetTable) {
+  // NOAA Global Monitoring Laboratory's own spreadsheet of the algorithm, NOAA_Solar_Calculations_day
+  // (its default inputs: 40° N, 105° W, time zone −7, 21 June 2010), rows at 06:00, 08:00, 09:00,
+  // 12:00, 15:00, 18:00 and 19:30 local time: "Solar Elevation corrected for atm refraction (deg)" and
+  // "Solar Azimuth Angle (deg cw from N)" as the sheet holds them (read from the copy kept in
+  // github.com/pyenergyplus/pysunNOAA, resources/NOAA_Solar_Calculations_day.ods).
+  struct Row {
+    const char* time;
+    double elevation_deg, azimuth_deg;
+  };
+  const Row rows[] = {{"2010-06-21T06:00-07:00", 14.5538438427532, 71.3721272242721},
+                      {"2010-06-21T08:00-07:00", 37.0589536901355, 89.0079648832438},
+                      {"2010-06-21T09:00-07:00", 48.4962923894066, 99.4675295274194},
+                      {"2010-06-21T12:00-07:00", 73.4384793439627, 178.533230037881},
+                      {"2010-06-21T15:00-07:00", 49.1836829941271, 259.809563932718},
+                      {"2010-06-21T18:00-07:00", 15.2132018370298, 288.099272917031},
+                      {"2010-06-21T19:30-07:00", 0.0989819972923182, 301.72829080667}};
+  for (const Row& row : rows) {
+    std::string error;
+    const auto instant = parse_iso8601(row.time, &error);
+    ASSERT_TRUE(instant) << error;
+    const SolarPosition sun = solar_position(instant->julian_day_ut, 40, -105);
+    EXPECT_NEAR(sun.elevation_deg, row.elevation_deg, 1e-6) << row.time;
+    EXPECT_NEAR(sun.azimuth_deg, row.azimuth_deg, 1e-6) << row.time;
+  }
+}
+
 TEST(SolarPosition, DirectionInTheScene) {
   // The sun's direction from its elevation γ and azimuth A: north cos γ cos A + east cos γ sin A + up sin γ,
   // with east = north × up. A sun due south at 30° in a scene with up = z, north = y, east = x.

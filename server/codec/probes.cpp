@@ -121,7 +121,9 @@ bool decode_quantity(Decoder& d, const json& j, const std::string& p, Probe& pro
 void decode_probe(Decoder& d, const json& j, std::size_t i,
                   std::map<std::string, std::string>& names, std::size_t& points) {
   const std::string p = index_ptr("/probes", i);
-  if (!d.object(j, p, {"name", "position", "grid", "normal", "quantity", "facing"})) return;
+  if (!d.object(j, p, {"name", "position", "grid", "normal", "quantity", "facing", "daylight_factor",
+                       "daylight_factor_target_pct", "en17037", "vertical_sky_component"}))
+    return;
   Probe probe;
   probe.name = d.unique_name(j, p, "probe" + std::to_string(i), names, "probe");
   bool ok = true;
@@ -150,6 +152,7 @@ void decode_probe(Decoder& d, const json& j, std::size_t i,
   } else if (!decode_grid_points(d, *jg, p + "/grid", ok, points, probe)) {
     return;
   }
+  if (!decode_probe_daylight(d, j, p, probe)) return;
   d.scene().probes.push_back(std::move(probe));
 }
 

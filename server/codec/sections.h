@@ -3,6 +3,8 @@
 // spectra on its grid). Each reads its section of doc into d.scene() and reports what is wrong.
 #pragma once
 
+#include <string>
+
 #include "server/codec/decoder.h"
 
 namespace lambert::codec {
@@ -11,6 +13,9 @@ void decode_materials(Decoder& d, const json& doc);  // materials.cpp
 void decode_surfaces(Decoder& d, const json& doc);   // surfaces.cpp (needs the materials)
 void decode_lights(Decoder& d, const json& doc);     // lights/dispatch.cpp
 void decode_probes(Decoder& d, const json& doc);     // probes.cpp
+// A probe's daylight metrics, read into probe.daylight once its points and normal are read; the
+// lights must be decoded (probe_daylight.cpp). False after an error.
+bool decode_probe_daylight(Decoder& d, const json& j, const std::string& p, Probe& probe);
 void decode_options(Decoder& d, const json& doc);    // options.cpp: meshing, solver, output
 void decode_evaluations(Decoder& d, const json& doc);  // evaluation.cpp: task_summary, glare (needs the probes)
 

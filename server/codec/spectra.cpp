@@ -17,12 +17,13 @@ struct TotalKind {
   std::string_view key;
   bool luminous;  // luminous_integral (683 Σ w ȳ s) rather than integrate (Σ w s)
 };
-constexpr std::array<TotalKind, 10> kTotalKinds = {{
+constexpr std::array<TotalKind, 12> kTotalKinds = {{
     {"luminous_intensity_cd", true},   {"radiant_intensity_W_sr", false},
     {"luminous_flux_lm", true},        {"radiant_flux_W", false},
     {"illuminance_lx", true},          {"irradiance_W_m2", false},
     {"luminous_exitance_lm_m2", true}, {"radiant_exitance_W_m2", false},
     {"luminance_cd_m2", true},         {"radiance_W_m2_sr", false},
+    {"horizontal_illuminance_lx", true}, {"zenith_luminance_cd_m2", true},  // a sky
 }};
 
 // ---- the grid ---------------------------------------------------------------------------------

@@ -42,17 +42,15 @@ class SkyLightModel final : public LightModel {
  public:
   SkyLightModel(const SkyLight& light, const LightContext& context)
       : light_(light),
-        dome_(context.occluders, sky_distribution(light), context.solids ? std::span<const int>(context.solids->solid) : std::span<const int>{},
-              context.solids ? std::span<const char>(context.solids->convex) : std::span<const char>{},
-              context.solids ? std::span<const SolidCap>(context.solids->cap) : std::span<const SolidCap>{}),
-        open_({}, dome_.sky()),
-        ground_weight_(light.ground_reflectance * dome_.sky().horizontal_factor() / kPi) {}
+        dome_(make_sky_dome(light, context)),
+        open_({}, dome_->sky()),
+        ground_weight_(light.ground_reflectance * dome_->sky().horizontal_factor() / kPi) {}
 
   const std::vector<double>& spectrum() const override { return light_.zenith_radiance_W_m2_sr_nm; }
 
   double unshadowed_factor(const Point3& p, const Vector3& n) const override { return combine(open_.at(p, n)); }
-  double point_factor(const Point3& p, const Vector3& n, const Visibility&) const override { return combine(dome_.at(p, n)); }
-  double patch_factor(const Triangle& t, const Visibility&) const override { return combine(dome_.average(t)); }
+  double point_factor(const Point3& p, const Vector3& n, const Visibility&) const override { return combine(dome_->at(p, n)); }
+  double patch_factor(const Triangle& t, const Visibility&) const override { return combine(dome_->average(t)); }
   double flux_factor() const override { return 0; }
   std::string_view kind() const override { return "sky"; }
 
@@ -60,16 +58,24 @@ class SkyLightModel final : public LightModel {
   double combine(const SkyFactors& f) const { return f.sky + ground_weight_ * f.ground; }
 
   SkyLight light_;
-  SkyDome dome_;  // the scene's occluders
+  std::unique_ptr<SkyDome> dome_;  // the scene's occluders
   SkyDome open_;  // none
   double ground_weight_;  // ρ_g K / π
 };
 
 }  // namespace
 
-std::unique_ptr<LightModel> make_sky_light(const SkyLight& light, const LightContext& context) {
+std::unique_ptr<SkyDome> make_sky_dome(const SkyLight& light, const LightContext& context) {
   if (!context.has_scene)
     throw std::invalid_argument("a sky light needs the scene's geometry (LightContext) to see what it hides of the sky");
+  const OutwardSolids* solids = context.solids;
+  return std::make_unique<SkyDome>(context.occluders, sky_distribution(light),
+                                   solids ? std::span<const int>(solids->solid) : std::span<const int>{},
+                                   solids ? std::span<const char>(solids->convex) : std::span<const char>{},
+                                   solids ? std::span<const SolidCap>(solids->cap) : std::span<const SolidCap>{});
+}
+
+std::unique_ptr<LightModel> make_sky_light(const SkyLight& light, const LightContext& context) {
   return std::make_unique<SkyLightModel>(light, context);
 }
 

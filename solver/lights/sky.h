@@ -2,8 +2,11 @@
 // result (the unobstructed illuminances it states).
 #pragma once
 
+#include <memory>
 #include <vector>
 
+#include "solver/light_model.h"
+#include "solver/lights/sky_dome.h"
 #include "solver/lights/sky_luminance.h"
 #include "solver/scene.h"
 
@@ -22,5 +25,10 @@ struct SkySummary {
   std::vector<double> ground_radiance_W_m2_sr_nm;     // L_g(λ)
 };
 SkySummary summarize_sky(const SkyLight& light);
+
+// The sky and the ground as the scene of `context` hides them from a point (sky_dome.h): the light's
+// dome, which the LightModel integrates, for measures of its own (the vertical sky component).
+// Throws std::invalid_argument as make_sky_light does.
+std::unique_ptr<SkyDome> make_sky_dome(const SkyLight& light, const LightContext& context);
 
 }  // namespace lambert

@@ -53,7 +53,7 @@ DirectLight direct_light(const Scene& scene, const std::vector<Patch>& patches, 
   d.M.assign(N * W, 0.0);
   d.E_direct.assign(N * W, 0.0);
   d.E_known_flux.assign(N * W, 0.0);
-  for (const Light& light : scene.lights) d.sources.push_back(make_light_model(light));
+  d.sources = make_scene_light_models(scene);
   for (const LobedPiece& piece : lobed) {
     const Emission& e = *scene.surfaces[piece.surface].emission;
     d.sources.push_back(make_phong_emitter(piece.triangle, e.lobe_exponent, e.exitance_W_m2_nm));

@@ -6,6 +6,7 @@
 #include "solver/dense/dense_operator.h"
 #include "solver/dense/discretise.h"
 #include "solver/hierarchical/discretise.h"
+#include "solver/pipeline/daylight.h"
 #include "solver/pipeline/pipeline.h"
 #include "solver/pipeline/prepare.h"
 #include "solver/radiosity.h"
@@ -97,6 +98,7 @@ Solution solve(const Scene& scene, const SolveControl& control) {
   enter_stage(control, SolveStage::Meshing);
   const PreparedScene prepared(scene, control);
   Solution sol = solve_method(prepared.scene(), control);
+  measure_sky_components(prepared.scene(), sol, control);
   prepared.finish(sol);
   return sol;
 }

@@ -20,6 +20,7 @@ constexpr std::array kLightTypes = {
     LightType{"goniometric", decode_point_like_light},
     LightType{"spot", decode_point_like_light},
     LightType{"warn", decode_point_like_light},
+    LightType{"sky", decode_sky_light},
 };
 
 void decode_light(Decoder& d, const json& j, std::size_t i) {

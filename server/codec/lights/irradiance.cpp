@@ -6,7 +6,8 @@ namespace lambert::codec {
 
 std::optional<std::vector<double>> uniform_irradiance(Decoder& d, const json& j,
                                                       const std::string& p,
-                                                      std::string_view source, bool parameters_ok) {
+                                                      std::string_view source, bool parameters_ok,
+                                                      const Total* fallback) {
   std::optional<std::vector<double>> E;
   if (const json* e = d.required(j, p, "irradiance"))
     E = spectrum(d, *e, p + "/irradiance", SpectrumRole::Emission);
@@ -14,7 +15,8 @@ std::optional<std::vector<double>> uniform_irradiance(Decoder& d, const json& j,
   if (!E || !parameters_ok) return std::nullopt;
   // The total is the irradiance itself (geometric factor 1): on every plane for an ambient light,
   // on a plane perpendicular to the beam for a directional one.
-  if (t && !scale_to_total(d, *E, *t, 1.0, p + "/irradiance")) return std::nullopt;
+  const Total* scale = t ? &*t : fallback;
+  if (scale && !scale_to_total(d, *E, *scale, 1.0, p + "/irradiance")) return std::nullopt;
   return E;
 }
 
