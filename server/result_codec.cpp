@@ -346,6 +346,15 @@ ResultSizeBound result_size_bound(const Scene& scene) {
     b.fixed_bytes += kElement + static_cast<double>(p.name.size()) + kNumber * (6 * n + 10) +
                      kNumber * W * (p.is_grid ? n * spectral : 1);
     b.fixed_bytes += sources * (64 + static_cast<double>(p.name.size()) + kNumber * n);  // per-source illuminance
+    // Daylight: the daylight factor per point, its statistics and EN 17037's summary; the VSC per point.
+    if (p.daylight.daylight_factor) b.fixed_bytes += 2 * kElement + kNumber * (n + 20);
+    if (p.daylight.vertical_sky_component) b.fixed_bytes += kNumber * n;
+  }
+  // "daylight": per sky its factors and spectra, per sun its place, time and position.
+  for (const Light& light : scene.lights) {
+    if (std::holds_alternative<SkyLight>(light)) b.fixed_bytes += kElement + kNumber * (6 + 2 * W * spectral);
+    if (const auto* d = std::get_if<DirectionalLight>(&light); d && d->sun)
+      b.fixed_bytes += kElement + static_cast<double>(d->sun->time.size()) + kNumber * 10;
   }
   b.fixed_bytes += sources * kElement;
   // The evaluations (evaluation_codec.h): a task summary's line per grid it lists, and per glare

@@ -49,12 +49,25 @@ TEST(SceneLimits, TheResultSizeBoundHoldsForEveryPartOfAResult) {
   two_lights["meshing"] = {{"max_patch_area", 0.01}};
   struct Case { const char* what; json scene; };
   std::vector<Case> cases = {{"spectral", two_lights}, {"not spectral", two_lights},
-                             {"per source", two_lights}, {"grid probes", two_lights}, {"rgb", two_lights}};
+                             {"per source", two_lights}, {"grid probes", two_lights}, {"rgb", two_lights},
+                             {"daylight", two_lights}, {"sun", two_lights}};
   cases[1].scene["output"] = {{"spectral", false}};
   cases[2].scene["output"] = {{"per_source", true}};
   cases[3].scene["probes"] = json::array({grid_probe("g", 20, 15), {{"name", "p"}, {"position", {0.5, 0, 0.5}}, {"normal", {0, 1, 0}}}});
   cases[3].scene["output"] = {{"per_source", true}};
   cases[4].scene["spectrum"] = {{"mode", "rgb"}};
+  // A sky with a daylight-factor grid (EN 17037's summary) and a façade probe's VSC; a sun placed by
+  // place and time (the floor faces +y: up is +y).
+  cases[5].scene["lights"] = json::array({{{"type", "sky"}, {"cie_type", 16}, {"zenith_luminance_cd_m2", 1000}, {"up", {0, 1, 0}}}});
+  json df = grid_probe("df", 20, 15);
+  df["daylight_factor"] = true;
+  df["en17037"] = {{"level", "high"}, {"median_external_diffuse_illuminance_lx", 15000}};
+  json vsc = grid_probe("vsc", 10, 10);
+  vsc["normal"] = {1, 0, 0};
+  vsc["vertical_sky_component"] = true;
+  cases[5].scene["probes"] = json::array({df, vsc});
+  cases[6].scene["lights"] = json::array({{{"type", "directional"}, {"irradiance", 1}, {"up", {0, 1, 0}}, {"north", {0, 0, -1}},
+                                            {"sun", {{"latitude_deg", 48}, {"longitude_deg", 11}, {"time", "2026-06-21T12:00+02:00"}}}}});
   for (const Case& c : cases) {
     const DecodeResult d = decode_scene(c.scene.dump());
     ASSERT_TRUE(d.ok()) << c.what << ": " << format_errors(d);
