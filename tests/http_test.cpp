@@ -520,8 +520,10 @@ TEST(Http, ShutdownAnswersWhoIsWaitingAndRefusesNewWork) {
 }
 
 TEST(Http, TheTimeLimitFailsAJobWithTheReason) {
+  // 2 s: the slow scene needs about 10 s, and the small one with its worker process well under 1 s
+  // even under AddressSanitizer, whose process start alone takes a good part of a second.
   ServiceOptions jobs = job_options();
-  jobs.time_limit = 0.3s;
+  jobs.time_limit = 2s;
   TestServer server(jobs);
   auto cli = server.client();
   const std::string id = submit(server, slow_scene());
@@ -621,7 +623,7 @@ TEST(Http, UnfinishedJobsRunAgainAfterARestart) {
     small = submit(server, point_scene(30));
     EXPECT_EQ(job_status(server, small).value("state", ""), "queued");
   }  // shut down with one job running and one queued
-  jobs.time_limit = 0.3s;  // so that the slow one ends quickly this time
+  jobs.time_limit = 2s;  // so that the slow one (about 10 s) ends soon this time; the small one fits
   TestServer server(jobs);
   const json s = wait_final(server, small);
   ASSERT_EQ(s.value("state", ""), "done") << s;
