@@ -1,8 +1,10 @@
 // The HTTP service (SPEC §4) on cpp-httplib 0.11.4, the only file that uses it.
 //
 // Hardening against cpp-httplib's defaults (STACK P4-P8):
-//   - connections are served by a fixed pool whose accept loop blocks when `http_threads` connections
-//     are waiting, so pending work is bounded and the kernel's listen backlog pushes back (P6);
+//   - connections are accepted and their requests read by our own front (server/connection_front.h):
+//     a request reaches one of the `http_threads` workers only once its head (and a small body) has
+//     arrived within its deadline, so slow or stalled clients hold no worker; httplib only parses and
+//     answers the request (Server::process_request, reached through a subclass);
 //   - request bodies are read through a content reader with our own size limit, which also holds
 //     for chunked and gzip-encoded bodies (httplib's payload limit, P7, covers only Content-Length);
 //   - solves run on the JobStore's workers, never on these threads (P6);
@@ -11,18 +13,15 @@
 #include "server/http_server.h"
 
 #include <httplib.h>
-#include <sys/socket.h>
 
 #include <algorithm>
 #include <atomic>
 #include <charconv>
-#include <condition_variable>
 #include <cmath>
 #include <ctime>
 #include <map>
 #include <optional>
 #include <iostream>
-#include <list>
 #include <mutex>
 #include <thread>
 #include <vector>
@@ -30,6 +29,7 @@
 #include <nlohmann/json.hpp>
 
 #include "server/cache_key.h"
+#include "server/connection_front.h"
 #include "server/log.h"
 #include "server/metrics.h"
 #include "server/result_views.h"
@@ -120,61 +120,6 @@ json status_json(const JobStatus& s) {
   return j;
 }
 
-// ---- the connection pool ------------------------------------------------------------------------
-
-// httplib's ThreadPool queues accepted connections without bound. This one has `threads` workers
-// and at most `max_pending` connections waiting; beyond that enqueue() blocks the accept loop, and
-// new clients wait in the kernel's backlog instead of in our memory.
-class BoundedThreadPool final : public httplib::TaskQueue {
- public:
-  BoundedThreadPool(std::size_t threads, std::size_t max_pending) : max_pending_(max_pending) {
-    for (std::size_t k = 0; k < threads; ++k) threads_.emplace_back([this] { work(); });
-  }
-  ~BoundedThreadPool() override { shutdown(); }
-
-  void enqueue(std::function<void()> fn) override {
-    std::unique_lock lock(mutex_);
-    room_.wait(lock, [&] { return pending_.size() < max_pending_ || shutdown_; });
-    pending_.push_back(std::move(fn));
-    work_.notify_one();
-  }
-
-  void shutdown() override {
-    {
-      std::lock_guard lock(mutex_);
-      if (shutdown_ && threads_.empty()) return;
-      shutdown_ = true;
-    }
-    work_.notify_all();
-    room_.notify_all();
-    for (auto& t : threads_) t.join();
-    threads_.clear();
-  }
-
- private:
-  void work() {
-    for (;;) {
-      std::function<void()> fn;
-      {
-        std::unique_lock lock(mutex_);
-        work_.wait(lock, [&] { return !pending_.empty() || shutdown_; });
-        if (pending_.empty()) return;  // shutting down and drained
-        fn = std::move(pending_.front());
-        pending_.pop_front();
-        room_.notify_one();
-      }
-      fn();
-    }
-  }
-
-  const std::size_t max_pending_;
-  std::mutex mutex_;
-  std::condition_variable work_, room_;
-  std::list<std::function<void()>> pending_;
-  std::vector<std::thread> threads_;
-  bool shutdown_ = false;
-};
-
 // ---- routes -------------------------------------------------------------------------------------
 
 // The served paths, for 404 and 405 before any handler runs. A "*" segment matches one non-empty
@@ -257,6 +202,52 @@ void close_after(const httplib::Request& req, httplib::Response& res) {
     res.set_header("Connection", "close");
 }
 
+// httplib's request processing on a connection of the front: a Stream over it, and the protected
+// Server::process_request made reachable.
+class FrontStream final : public httplib::Stream {
+ public:
+  explicit FrontStream(Connection& c) : c_(c) {}
+  bool is_readable() const override { return c_.readable(); }
+  bool is_writable() const override { return c_.writable(); }
+  ssize_t read(char* ptr, size_t size) override { return c_.read(ptr, size); }
+  ssize_t write(const char* ptr, size_t size) override { return c_.write(ptr, size); }
+  void get_remote_ip_and_port(std::string& ip, int& port) const override {
+    ip = c_.remote_ip();
+    port = c_.remote_port();
+  }
+  void get_local_ip_and_port(std::string& ip, int& port) const override {
+    ip = c_.local_ip();
+    port = c_.local_port();
+  }
+  socket_t socket() const override { return c_.fd(); }
+
+ private:
+  Connection& c_;
+};
+
+class RequestServer final : public httplib::Server {
+ public:
+  // One request on `strm`; false when none could be read or the answer not written.
+  bool serve(httplib::Stream& strm, bool close_connection, bool& connection_closed) {
+    return process_request(strm, close_connection, connection_closed, nullptr);
+  }
+};
+
+// Set by the post-routing handler when the answer closes the connection (a body left unread).
+thread_local bool answer_closes = false;
+
+FrontOptions front_options(const HttpServerOptions& o) {
+  FrontOptions f;
+  f.workers = std::max<std::size_t>(2, o.http_threads);
+  f.max_connections = o.max_connections;
+  f.max_connections_per_client = o.max_connections_per_client;
+  f.request_timeout = std::chrono::milliseconds(static_cast<long long>(o.request_timeout_s * 1000));
+  f.keep_alive_timeout = std::chrono::seconds(o.keep_alive_timeout_s);
+  f.read_timeout = std::chrono::seconds(o.read_timeout_s);
+  f.write_timeout = std::chrono::seconds(o.write_timeout_s);
+  return f;
+}
+
 }  // namespace
 
 // ---- the server -----------------------------------------------------------------------------------
@@ -271,15 +262,25 @@ struct HttpServer::Impl {
   HttpServerOptions options;
   FileAccess files;
   std::vector<Route> routes;
-  httplib::Server server;
+  RequestServer server;
+  ConnectionFront front{front_options(options), [this](Connection& c, bool last, bool& close) {
+                          return handle(c, last, close);
+                        }};
   // Synchronous solves wait on HTTP threads: keep two threads free for status and health requests.
   const std::size_t max_sync_waiters;
   std::atomic<std::size_t> sync_waiters{0};
-  int listen_fd = -1;  // the listening socket, once bound
   std::mutex responses_mutex;
   std::map<int, std::uint64_t> responses;  // by status code, for GET /v1/metrics
 
   void install();
+  bool handle(Connection& c, bool last, bool& close) {
+    FrontStream strm(c);
+    bool closed = false;
+    answer_closes = false;
+    const bool ok = server.serve(strm, last, closed);
+    close = closed || answer_closes;
+    return ok;
+  }
 
   enum class Body { Ok, Sent };
   Body read_body(const httplib::Request& req, httplib::Response& res,
@@ -312,34 +313,18 @@ HttpServer::HttpServer(JobService& jobs, HttpServerOptions options)
 
 HttpServer::~HttpServer() { stop(); }
 
-int HttpServer::bind(const std::string& host, int port) {
-  const int bound = port == 0 ? impl_->server.bind_to_any_port(host)
-                              : (impl_->server.bind_to_port(host, port) ? port : -1);
-  // httplib listens with a backlog of 5: a burst of a few more connections than that loses SYNs and
-  // waits a second for the retransmission. Listening again on the same socket raises the backlog.
-  if (bound > 0 && impl_->listen_fd >= 0) ::listen(impl_->listen_fd, SOMAXCONN);
-  return bound;
-}
-
-bool HttpServer::listen_after_bind() { return impl_->server.listen_after_bind(); }
-void HttpServer::stop() { impl_->server.stop(); }
-bool HttpServer::is_running() const { return impl_->server.is_running(); }
+int HttpServer::bind(const std::string& host, int port) { return impl_->front.bind(host, port); }
+bool HttpServer::listen_after_bind() { return impl_->front.run(); }
+void HttpServer::stop() { impl_->front.stop(); }
+bool HttpServer::is_running() const { return impl_->front.is_running(); }
 
 void HttpServer::Impl::install() {
-  const std::size_t threads = std::max<std::size_t>(2, options.http_threads);
-  server.new_task_queue = [threads] { return new BoundedThreadPool(threads, threads); };
+  // Connections, timeouts and threads are the front's (front_options); httplib sees one request at a time.
   server.set_payload_max_length(options.max_body_bytes);
-  server.set_read_timeout(options.read_timeout_s, 0);
-  server.set_write_timeout(options.write_timeout_s, 0);
-  server.set_keep_alive_timeout(options.keep_alive_timeout_s);
-  server.set_keep_alive_max_count(100);
-  server.set_tcp_nodelay(true);
-  // Instead of httplib's default (SO_REUSEADDR and SO_REUSEPORT): without SO_REUSEPORT a second
-  // server on the same port fails to start instead of silently sharing the traffic.
-  server.set_socket_options([this](int sock) {
-    int yes = 1;
-    ::setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
-    listen_fd = sock;  // the last socket tried is the one that was bound
+  server.set_keep_alive_timeout(options.keep_alive_timeout_s);  // advertised in Keep-Alive
+  server.set_keep_alive_max_count(FrontOptions{}.max_requests_per_connection);
+  server.set_post_routing_handler([](const httplib::Request&, httplib::Response& res) {
+    answer_closes = res.get_header_value("Connection") == "close";
   });
   server.set_default_headers({{"Cache-Control", "no-store"}, {"X-Content-Type-Options", "nosniff"}});
 

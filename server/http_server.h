@@ -21,8 +21,11 @@ namespace lambert {
 struct HttpServerOptions {
   std::size_t max_body_bytes = 64u << 20;       // larger request bodies get 413 too_large
   std::optional<std::filesystem::path> mesh_root;  // none: scenes may not name files at all
-  std::size_t http_threads = 8;                 // connection threads (requests in flight)
-  int read_timeout_s = 30, write_timeout_s = 30;  // per socket read/write, not per request
+  std::size_t http_threads = 8;                 // requests handled at once (server/connection_front.h)
+  std::size_t max_connections = 512;            // open connections; beyond: 503 and closed
+  std::size_t max_connections_per_client = 64;  // open connections of one IP address; beyond: 503
+  double request_timeout_s = 10;                // a request's line and headers must arrive within it: else 408
+  int read_timeout_s = 30, write_timeout_s = 30;  // a worker's single read or write
   int keep_alive_timeout_s = 5;
   int retry_after_s = 5;                        // advertised with 503 queue_full
   bool access_log = false;                      // one JSON line per request on stderr (server/log.h)

@@ -35,6 +35,9 @@ struct ServeArgs {
   int port = 8080;
   std::size_t workers = 2;
   std::size_t http_threads = HttpServerOptions{}.http_threads;
+  std::size_t max_connections = HttpServerOptions{}.max_connections;
+  std::size_t max_connections_per_client = HttpServerOptions{}.max_connections_per_client;
+  double request_timeout_s = HttpServerOptions{}.request_timeout_s;
   std::string data_dir, mesh_root;  // empty: none
   std::string store;                // a PostgreSQL URI; empty: the data directory or memory
   double store_lease_s = 30;
@@ -55,7 +58,12 @@ void define_options(cli::Options& o, ServeArgs& a) {
   o.text("--host", a.host, "address to bind (0.0.0.0 for every interface)");
   o.integer("--port", a.port, 0, 65535, "TCP port; 0 picks a free one");
   o.count("--threads", a.workers, 1, 256, "solver workers: scenes solved at once");
-  o.count("--http-threads", a.http_threads, 2, 1024, "connections served at once");
+  o.count("--http-threads", a.http_threads, 2, 1024, "requests handled at once (connections wait without a thread)");
+  o.count("--max-connections", a.max_connections, 1, 100000, "open connections; beyond: 503 and closed");
+  o.count("--max-connections-per-client", a.max_connections_per_client, 1, 100000,
+          "open connections of one IP address; beyond: 503 and closed");
+  o.number("--request-timeout-s", a.request_timeout_s, 0.1, 3600,
+           "a request's line and headers must arrive within S seconds (else 408)");
   o.text("--data-dir", a.data_dir, "keep jobs and results in DIR (kept across restarts)", "DIR");
   o.text("--store", a.store,
          "keep jobs and results in PostgreSQL, shared by every instance started with the same URI "
@@ -151,6 +159,9 @@ std::variant<ServeOptions, int> serve_options(const ServeArgs& a) {
   ::gethostname(host, sizeof host - 1);
   o.jobs.instance = std::string(host) + "/" + std::to_string(::getpid());
   o.http.http_threads = a.http_threads;
+  o.http.max_connections = a.max_connections;
+  o.http.max_connections_per_client = a.max_connections_per_client;
+  o.http.request_timeout_s = a.request_timeout_s;
   o.http.max_body_bytes = a.max_body_bytes;
   o.http.access_log = a.access_log;
   if (!a.mesh_root.empty()) {

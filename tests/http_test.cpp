@@ -248,20 +248,28 @@ TEST(Http, OversizedBodiesAre413) {
 TEST(Http, RequestsACarefulClientWouldNotSend) {
   HttpServerOptions http;
   http.read_timeout_s = 1;
+  http.request_timeout_s = 1;
   TestServer server(job_options(), http);
   const int port = server.port();
   // No Content-Length and not chunked: HTTP/1.1 would read until the client closes.
   std::string r = raw_request(port, "POST /v1/jobs HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\n\r\n{}");
   EXPECT_EQ(raw_status(r), 411) << r;
   EXPECT_EQ(raw_body(r)["error"]["code"], "length_required");
-  // Content-Length says more than arrives: the read times out (1 s here) and the request fails alone.
-  // (A client that half-closes its socket gets no answer at all: httplib 0.11.4 writes nothing to a
-  // connection whose peer has sent FIN.)
+  // Content-Length says more than arrives. A small body is read before a worker takes the request:
+  // it misses the request's deadline (1 s here) and is answered 408.
   auto t0 = Clock::now();
   r = raw_request(port, "POST /v1/solve HTTP/1.1\r\nHost: x\r\nContent-Length: 100\r\n\r\n{\"lambert\"");
+  EXPECT_EQ(raw_status(r), 408) << r;
+  EXPECT_EQ(raw_body(r)["error"]["code"], "request_timeout");
+  EXPECT_LT(Clock::now() - t0, 10s);
+  // A large one (beyond the 1 MiB read ahead) is read by a worker, whose read times out (1 s): the
+  // request fails alone.
+  t0 = Clock::now();
+  r = raw_request(port, "POST /v1/solve HTTP/1.1\r\nHost: x\r\nContent-Length: 2000000\r\n\r\n{\"lambert\"");
   EXPECT_EQ(raw_status(r), 400) << r;
   EXPECT_EQ(raw_body(r)["error"]["code"], "invalid_body");
   EXPECT_LT(Clock::now() - t0, 10s);
+  // A client that half-closes its socket before its body is complete gets no answer.
   raw_request(port, "POST /v1/solve HTTP/1.1\r\nHost: x\r\nContent-Length: 100\r\n\r\n{\"lambert\"", true);
   // Not HTTP at all.
   r = raw_request(port, "HELLO\r\n\r\n");
