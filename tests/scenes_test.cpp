@@ -53,15 +53,18 @@ void expect_close(double actual, double expected, double tolerance, const std::s
   EXPECT_NEAR(actual, expected, tolerance * std::max(std::abs(expected), 1e-12)) << what;
 }
 
-class ExpectedScene : public testing::TestWithParam<fs::path> {};
+// Every scene with a closed form, through each method (pbrt's TEST_P(RenderTest, RadianceMatches)).
+class ExpectedScene : public testing::TestWithParam<std::tuple<fs::path, SolverMethod>> {};
 
 TEST_P(ExpectedScene, MatchesItsClosedForm) {
-  const fs::path path = GetParam();
+  const auto& [path, method] = GetParam();
   const json doc = json::parse(read_text(path));
   const json& expected = doc.at("expected");
   const double tol = expected.at("tolerance").get<double>();
-  const Scene scene = decode_file(path);
+  Scene scene = decode_file(path);
+  scene.solver.method = method;
   const Solution sol = solve(scene);
+  EXPECT_EQ(sol.stats.method, method);
   const Report report = make_report(scene, sol);
   if (expected.contains("surfaces")) {
     for (const auto& [name, values] : expected["surfaces"].items()) {
@@ -104,9 +107,12 @@ std::vector<fs::path> expected_scenes() {
   return out;
 }
 
-INSTANTIATE_TEST_SUITE_P(Reference, ExpectedScene, testing::ValuesIn(expected_scenes()),
-                         [](const testing::TestParamInfo<fs::path>& info) {
-                           std::string name = info.param.stem().string();
+INSTANTIATE_TEST_SUITE_P(Reference, ExpectedScene,
+                         testing::Combine(testing::ValuesIn(expected_scenes()),
+                                          testing::Values(SolverMethod::Dense, SolverMethod::Hierarchical)),
+                         [](const testing::TestParamInfo<std::tuple<fs::path, SolverMethod>>& info) {
+                           std::string name = std::get<0>(info.param).stem().string() + "_" +
+                                              method_name(std::get<1>(info.param));
                            for (char& c : name)
                              if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
                            return name;

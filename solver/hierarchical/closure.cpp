@@ -71,18 +71,17 @@ Balanced balance(Hierarchy& h, BalanceState& state, const std::vector<Hemisphere
     }
     double col_error = 0;
     for (std::size_t j = 0; j < N; ++j) {
-      if (closed[j] == Hemisphere::Closed) {
-        // What the scene gathers of the power sent, over that power: the root's emitting leaves
-        // together, or the leaf alone.
-        const double sent = emits[j] ? root_sent[root_of[j]] : sends[j] * patches[j].area_m2;
-        const double C = (emits[j] ? root_gathered[root_of[j]] : sends[j] * cols[j] * h.source_scale[j]) / sent;
+      if (closed[j] == Hemisphere::Closed && emits[j]) {
+        // What the scene gathers of the power the root's emitting leaves send, over that power.
+        const double sent = root_sent[root_of[j]];
+        const double C = root_gathered[root_of[j]] / sent;
         if (!(sent > 0 && C > 0)) {
           if (update) h.source_scale[j] = 1.0;  // sends nothing: no power to conserve
           continue;
         }
         col_error = std::max(col_error, std::abs(1 - C));
         if (update) h.source_scale[j] = relax(h.source_scale[j], h.source_scale[j] / C);
-      } else {
+      } else {  // reflecting leaves: free, but an open one never gives away more than it sends
         const double t = cols[j] / patches[j].area_m2;
         if (update) h.source_scale[j] = closed[j] == Hemisphere::Open && t > 1 ? relax(h.source_scale[j], 1 / t) : 1.0;
       }

@@ -5,22 +5,20 @@
 // area-weighted column sums Σ_i A_i F_ij / A_j (what the scene gathers of leaf j's power) both miss 1
 // in a closed hemisphere. Scaling rows alone makes a furnace exact but not the energy: the power shot
 // by j is received as its column sum. So rows and columns are scaled together, F' = D_r F D_c
-// (Sinkhorn–Knopp, alternating): a closed leaf's row and column sums become 1, an open leaf's are
-// only kept from exceeding 1 (never more than a hemisphere, never more than was shot).
+// (Sinkhorn–Knopp, alternating): a closed leaf's row sum becomes 1, and so does the column sum of a
+// closed root's emitting leaves together; an open leaf's are only kept from exceeding 1 (never more
+// than a hemisphere, never more than was shot).
 //
-// Columns are the less accurate side: a coarse source spreads what it sends over its leaves by a
-// linear field at most (Link::bin, the point where a near link reads its source), and where it meets
-// a small receiver at an edge the kernel is far from even (leaf columns 0.85–1.34 in a black room lit
-// by its floor while the spread was even, whose rows were within 1.2 %). So a column is held at 1
-// only where that conserves power the scene computes. Leaves that send nothing (`sends` 0: black and
-// not emitting) are left alone. Emitting leaves, whose exitance is given, are held together per
-// root, weighted by what each sends: held leaf by leaf, they moved the floor's light in that room by
-// up to 8 % (17 % while the black walls' columns were held too). Reflecting leaves keep their own
-// columns: their power is the solution's, and without them a closed room lit by a point source
-// lost 1.2 % of it (held per root, or per group of 16 leaves, 0.7 %: the power a root sends is
-// not spread over it as its radiosity is). The price was the same distortion where reflectors meet
-// at an edge: with grey walls that room was 8.3 % off the dense solver at worst while coarse sources
-// were read at their centroid, 1.0 % since near links read them where the receiver sees them.
+// Columns are the less accurate side, and only the emitters' are held. A link reads its source at
+// one point, and in the transpose hands the source's leaves their shares by a linear field (links.h),
+// while the kernel from the receiver may vary more than linearly over the source: each leaf's column
+// misses 1 by a few per cent (3 % rms in the issue-4 room) even where every row is exact. Holding a
+// reflecting leaf's column at 1 rescales what it sends to every receiver, which moved the rows of
+// leaves at the room's edges by up to 4 % (docs/BENCHMARKS.md, "One engine: the hierarchical
+// method converges"); left free, the columns cost the energy certificate a few 1e-6. Emitting leaves,
+// whose exitance is given, are held together per root, weighted by what each sends, so that a closed
+// scene gathers all the power they emit; held leaf by leaf, they move a floor's light by up to 8 % in a
+// black room lit by its floor. Open leaves are only kept from giving away more than they send.
 //
 // Each sweep is one apply() and one apply_transpose(); plain sweeps shrink the error by about 0.65
 // each in the sphere furnaces, over-relaxed ones (optimal_overrelaxation, solver/linear_solve.h) by
@@ -70,7 +68,7 @@ struct Balanced {
 };
 
 // Balances h's scales for the leaves' hemispheres `closed` (per leaf), what each leaf `sends` (its
-// largest radiosity; 0: black and not emitting) and whether it `emits`, toward `target`.
+// largest radiosity: it weighs the emitting leaves of a root) and whether it `emits`, toward `target`.
 Balanced balance(Hierarchy& h, BalanceState& state, const std::vector<Hemisphere>& closed,
                  const std::vector<double>& sends, const std::vector<char>& emits, const std::vector<Patch>& patches,
                  double target, bool final_balance, const SolveControl& control);

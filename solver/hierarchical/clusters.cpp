@@ -129,6 +129,15 @@ ClusterTree build_cluster_tree(const ElementForest& forest) {
   return tree;
 }
 
+double one_point_error(const ClusterView& view, double scale, double d, double d_min) {
+  return (view.projected * scale / d + view.uncertainty) / (kPi * d_min * d_min);
+}
+
+double unseen_transfer(const Cluster& C, const ClusterView& view, bool receiver_faces, double sin_delta, double d_min) {
+  return max_projected(C) * (view.projected > 0 ? 1 : sin_delta) * (receiver_faces ? 1 : sin_delta) /
+         (kPi * d_min * d_min);
+}
+
 bool box_in_front(const Bounds3& box, const Point3& o, const Vector3& n, double tol) {
   for (int c = 0; c < 8; ++c) {
     const Point3 p{c & 1 ? box.hi.x : box.lo.x, c & 2 ? box.hi.y : box.lo.y, c & 4 ? box.hi.z : box.lo.z};

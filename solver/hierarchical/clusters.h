@@ -71,6 +71,19 @@ struct ClusterView {
 };
 ClusterView cluster_view(const ClusterTree& tree, int c, const Vector3& w);
 
+// The bounds of the BF oracle (refiner.h) on a cluster's one-point estimate, per unit of the cluster's
+// radiosity, toward a receiver across distance d between bounding spheres whose radii sum to `scale`
+// (d_min = d − scale, directions within δ = asin(scale/d) of the line w between the centres):
+//   - one_point_error: the transfer is at most projected/(π d_min²) (cos ≤ 1, distance ≥ d_min); the
+//     estimate errs by about the pair's relative size scale/d of it, and the projected area by its
+//     uncertainty;
+//   - unseen_transfer: where the line between the centres misses (the cluster shows nothing along w,
+//     or the receiver faces away from it: `receiver_faces` false), the estimate is 0, yet a cluster
+//     seen edge-on from its centre's direction may face the receiver along the others. Along those,
+//     the cosine on the side that misses is at most sin δ, so what passes is at most this.
+double one_point_error(const ClusterView& view, double scale, double d, double d_min);
+double unseen_transfer(const Cluster& C, const ClusterView& view, bool receiver_faces, double sin_delta, double d_min);
+
 // Whether some corner of `box` lies more than `tol` in front of the plane through o with normal n.
 bool box_in_front(const Bounds3& box, const Point3& o, const Vector3& n, double tol);
 

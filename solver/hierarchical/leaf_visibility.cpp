@@ -46,11 +46,8 @@ void LeafGather::form_links(int e, const std::vector<Entry>& entries, const std:
     link.receiver = e;
     link.source = entry.source;
     link.coeff.fill(static_cast<float>(F));
-    // Where the source is not small beside the distance, the link reads its radiosity where the
-    // leaf sees it (Link::bin), as the refiner's near links do.
-    if (h_.has_children(entry.source) &&
-        (near || distance(L.centre, S.centre) <= kLeafFarField * (L.radius + S.radius) * kTie))
-      link.bin = source_point_of(S, L);
+    // The link reads its source's radiosity where the leaf sees it (Link::bin), as the refiner's do.
+    if (h_.has_children(entry.source)) link.bin = source_point_of(S, L);
     link.set_visibility(proven    ? LinkVisibility::ShaftClear
                         : visible ? LinkVisibility::RaysUnanimous
                                   : LinkVisibility::Unknown);

@@ -46,7 +46,9 @@ struct Link {
   // are β1, β2 of the point y* where the link reads the source's radiosity (corner_weights), y* =
   // ∫ f(y) y dA / ∫ f(y) dA with f(y) the factor from y to the receiver: exact for a radiosity linear
   // over the source, and in the transpose the link's share of each of the source's leaves then has
-  // the kernel's first moment. The centroid where the kernel is about even. bin[2] holds an element
+  // the kernel's first moment. Every element link reads its source there: a read at the centroid
+  // misses a far source's radiosity gradient times the kernel's shift, which biases whole rows (by
+  // −0.1 % in the issue-4 room, docs/BENCHMARKS.md). bin[2] holds an element
   // link's LinkVisibility. (One field for both keeps a link at 28 bytes: the 10⁶-triangle room has
   // 182 M of them.)
   std::array<unsigned char, 3> bin{kCentroid, kCentroid, 0};

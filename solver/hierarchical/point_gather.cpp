@@ -98,25 +98,33 @@ void HierarchicalPointGather::visit_cluster(const Receiver& r, const Point3& fro
   const Vector3 d_vec = p - C.centre;
   const double d = length(d_vec), d_min = d - C.radius;
   if (d >= 2 * C.radius * kTie && d_min > 0) {
+    // The oracle's bounds (clusters.h), as for a link from the cluster to a receiver of no extent;
+    // they take the receiver's weight w(ω) at most 1, as (n·ω)⁺ is for a plane.
     const Vector3 w = d_vec / d;
+    const double sin_delta = C.radius / d;
+    if (planar && -dot(n, w) <= -sin_delta) return;  // behind the plane from every point of the cluster
+    if (!may_face(C, w, sin_delta, Bounds3{p, p})) return;
     const ClusterView view = cluster_view(h_, c, w);
-    if (cluster_B_[c] * (view.projected + view.uncertainty) / (kPi * d_min * d_min) <= tolerance_) {
-      const double cos_p = receiver_weight(r, -w);  // (n·ω)⁺ for a plane
-      if (cos_p > 0 && view.projected > 0) {
-        Vector3 source_normal;
-        const double v = planes_.point_sees_cluster(sides, c) ? 1.0 : weighted_visible_fraction(
-            vis_,
-            [&](int j) {
-              const ClusterTree::ClusterSample S = cluster_sample(h_, C, j);
-              source_normal = S.normal;
-              return std::pair{from, vis_.lift(S.point, S.normal)};
-            },
-            [&](const Point3&, const Point3& q) { return receiver_link_weight(r, q, source_normal); });
-        const std::size_t K = values_.K;
-        for (int a = 0; a < 3; ++a) {
-          const double coeff = view.weight[a] * cos_p * v / (kPi * d * d);
-          for (std::size_t k = 0; k < K; ++k) E[k] += coeff * values_.Phi[(c * 6 + view.bin[a]) * K + k];
-        }
+    const double weight = receiver_weight(r, -w);  // (n·ω)⁺ for a plane
+    if (view.projected <= 0 || weight <= 0) {
+      // The line between the centres misses; the other directions may not. A receiver other than
+      // a plane may see them at full weight.
+      const bool faces = weight > 0 || !planar;
+      if (cluster_B_[c] * unseen_transfer(C, view, faces, sin_delta, d_min) <= tolerance_) return;
+    } else if (cluster_B_[c] * one_point_error(view, C.radius, d, d_min) <= tolerance_) {
+      Vector3 source_normal;
+      const double v = planes_.point_sees_cluster(sides, c) ? 1.0 : weighted_visible_fraction(
+          vis_,
+          [&](int j) {
+            const ClusterTree::ClusterSample S = cluster_sample(h_, C, j);
+            source_normal = S.normal;
+            return std::pair{from, vis_.lift(S.point, S.normal)};
+          },
+          [&](const Point3&, const Point3& q) { return receiver_link_weight(r, q, source_normal); });
+      const std::size_t K = values_.K;
+      for (int a = 0; a < 3; ++a) {
+        const double coeff = view.weight[a] * weight * v / (kPi * d * d);
+        for (std::size_t k = 0; k < K; ++k) E[k] += coeff * values_.Phi[(c * 6 + view.bin[a]) * K + k];
       }
       return;
     }

@@ -2,8 +2,8 @@
 // cluster, taking a cluster or element whole where the error of doing so is within a tolerance, and
 // descending into it otherwise.
 //
-// A cluster is taken whole where its radiosity times the solid angle it may show is within the
-// tolerance (its intensity from the bins, clusters.h); an element where its radiosity varies little
+// A cluster is taken whole where the oracle's bound on its one-point estimate (clusters.h) is within
+// the tolerance, or left out where all it could send is; an element where its radiosity varies little
 // over it and it is wholly visible or wholly hidden; a leaf always. The tolerance is a tenth of
 // solver.accuracy times the scene's mean radiosity per unit of projected solid angle.
 #pragma once

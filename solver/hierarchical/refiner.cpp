@@ -45,19 +45,15 @@ std::array<double, 3> linear_fit(const std::array<std::array<double, 3>, P>& bet
 }  // namespace
 
 Refiner::Refiner(const Hierarchy& h, const Visibility& vis, const ExactVisibility& shafts, const PlaneVerdicts& planes,
-        const std::vector<double>& element_B, const std::vector<double>& cluster_B, double epsilon, double unit_area,
-        double accuracy, ExchangeCache& exchange, HiddenRoom& hidden_room)
-    : h_(h), vis_(vis), shafts_(shafts), planes_(planes), element_B_(element_B), cluster_B_(cluster_B), epsilon_(epsilon),
-      unit_area_(unit_area), exchange_(exchange), hidden_room_(hidden_room) {
+                 const OracleValues& oracle, double epsilon, double unit_area, double accuracy, ExchangeCache& exchange,
+                 HiddenRoom& hidden_room)
+    : h_(h), vis_(vis), shafts_(shafts), planes_(planes), element_B_(oracle.element_B), cluster_B_(oracle.cluster_B),
+      epsilon_(epsilon), unit_area_(unit_area), exchange_(exchange), hidden_room_(hidden_room) {
   // The cubature of near pairs may err by a tenth of what the oracle allows a link (relative), not
   // the dense solver's 1e-5: the city block of the benchmarks solved 1.3× faster, its radiosity
   // moving by 7e-6 of the mean (rms; 4e-4 on the worst patch) at the default accuracy 1e-3.
   near_field_.rel_tolerance = std::max(near_field_.rel_tolerance, 0.1 * accuracy);
   near_field_.abs_tolerance = std::max(near_field_.abs_tolerance, 1e-3 * accuracy);
-}
-
-double Refiner::one_point_error(const ClusterView& view, double scale, double d, double d_min, double receiver_area) const {
-  return (view.projected * scale / d + view.uncertainty) / (kPi * d_min * d_min) * area_weight(receiver_area);
 }
 
 void Refiner::refine_to_element(int r, int s, LinkBatch& out) const {
@@ -135,7 +131,7 @@ void Refiner::refine_to_element(int r, int s, LinkBatch& out) const {
   link.source = s;
   for (int k = 0; k < 3; ++k) link.coeff[k] = static_cast<float>(a[k]);
   link.error_per_B = static_cast<float>((residual + partial) * weight);
-  if (!smooth && h_.has_children(s)) link.bin = source_point_of(S, R);
+  if (h_.has_children(s)) link.bin = source_point_of(S, R);
   link.set_visibility(clear ? LinkVisibility::ShaftClear : LinkVisibility::Unknown);
   if (clear) out.links.push_back(link);
   else out.pending.push_back(link);
@@ -160,14 +156,12 @@ void Refiner::refine_to_cluster(int r, int c, LinkBatch& out) const {
     const double cos_r = -dot(R.normal, w);
     if (cos_r <= -sin_delta || !may_face(C, w, sin_delta, bounds(R.tri))) return;
     const ClusterView view = cluster_view(h_, c, w);
-    if (view.projected <= 0 || cos_r <= 0) {
-      // A link of factor 0: the line between the centres misses, others may not. Along those, the
-      // cosine on the side it misses is at most sin δ, so what passes is at most this.
-      const double reach = max_projected(C) * (view.projected > 0 ? 1 : sin_delta) * (cos_r > 0 ? 1 : sin_delta) /
-                           (kPi * d_min * d_min) * area_weight(R.area);
-      if (cluster_B_[c] * reach <= epsilon_) return;
-    }
-    const double error_per_B = one_point_error(view, scale, d, d_min, R.area);
+    // A link of factor 0 where the line between the centres misses: dropped if all that could pass
+    // along the other directions is within the budget.
+    if ((view.projected <= 0 || cos_r <= 0) &&
+        cluster_B_[c] * unseen_transfer(C, view, cos_r > 0, sin_delta, d_min) * area_weight(R.area) <= epsilon_)
+      return;
+    const double error_per_B = one_point_error(view, scale, d, d_min) * area_weight(R.area);
     if (view.projected > 0 && cos_r > 0 && cluster_B_[c] * error_per_B <= epsilon_) {
       Link link;
       link.receiver = r;
@@ -243,7 +237,7 @@ void Refiner::refine_pair(int rc, int s, bool from_cluster, LinkBatch& out) cons
     const double reach = shown * sin_delta / (kPi * d_min * d_min) * area_weight(R.area);
     return B * reach <= epsilon_ ? void() : split();
   }
-  const double error_per_B = one_point_error(view, scale, d, d_min, R.area);
+  const double error_per_B = one_point_error(view, scale, d, d_min) * area_weight(R.area);
   if (alpha + theta > kPi / 2) return split_receiver();
   if (B * error_per_B > epsilon_) return split();
   ClusterLink link;

@@ -20,6 +20,7 @@
 #include "solver/exact_visibility.h"
 #include "solver/form_factor.h"
 #include "solver/hierarchical/hierarchy.h"
+#include "solver/hierarchical/oracle.h"
 #include "solver/hierarchical/plane_verdicts.h"
 #include "solver/visibility.h"
 
@@ -41,13 +42,13 @@ struct HiddenRoom {
   std::atomic<std::int64_t> elements{0}, clustered{0};
 };
 
-// The refinement of one (receiver, source) pair into links, with the BF oracle. element_B and
-// cluster_B: the oracle's radiosity per element and cluster (oracle.h).
+// The refinement of one (receiver, source) pair into links, with the BF oracle; `oracle`: its
+// radiosity per element and cluster (oracle.h).
 class Refiner {
  public:
   Refiner(const Hierarchy& h, const Visibility& vis, const ExactVisibility& shafts, const PlaneVerdicts& planes,
-          const std::vector<double>& element_B, const std::vector<double>& cluster_B, double epsilon, double unit_area,
-          double accuracy, ExchangeCache& exchange, HiddenRoom& hidden_room);
+          const OracleValues& oracle, double epsilon, double unit_area, double accuracy, ExchangeCache& exchange,
+          HiddenRoom& hidden_room);
 
   // The oracle bounds irradiance errors at the patch scale and power errors above it: an error of
   // δE over a receiver of area A counts δE × max(1, A / unit_area). Coarse receivers (many patches)
@@ -55,11 +56,6 @@ class Refiner {
   // their own finer links; this keeps the link count near-linear.
   double area_weight(double receiver_area) const { return std::max(1.0, receiver_area / unit_area_); }
 
-  // The error bound per unit source radiosity of a one-point link across distance d between bounding
-  // spheres whose radii sum to `scale` (d_min = d − scale): the transfer is at most
-  // projected/(π d_min²) (cos θ ≤ 1, distance ≥ d_min); the one-point estimate errs by about the
-  // pair's relative size scale/d of it, and the projected area by its uncertainty.
-  double one_point_error(const ClusterView& view, double scale, double d, double d_min, double receiver_area) const;
 
   void refine_to_element(int r, int s, LinkBatch& out) const;
 
