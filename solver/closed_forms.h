@@ -1,4 +1,4 @@
-// Exact configuration factors from Howell's catalogue (../shared/REFERENCES.md V1, V3, V4), and the
+// Exact configuration factors from Howell's catalogue (../shared/REFERENCES.md V1–V4), and the
 // second moment that a graded sky adds to B-3: the independent answers that the tests and
 // `lambert bench` compare the solver against. The solver itself never calls them.
 #pragma once
@@ -36,6 +36,21 @@ inline double howell_b3(double X, double Y) {
   return 1 / (2 * kPi) *
          (X / std::sqrt(1 + X * X) * std::atan(Y / std::sqrt(1 + X * X)) +
           Y / std::sqrt(1 + Y * Y) * std::atan(X / std::sqrt(1 + Y * Y)));
+}
+
+// Howell V2 (REFERENCES.md): an element at the origin facing +z, a rectangle in the vertical plane
+// y = c, x ∈ [0, a], z ∈ [0, b] from the foot of the perpendicular (X = a/c, Z = b/c):
+//   F = (atan X − atan(X/√(1+Z²))/√(1+Z²)) / 2π.
+inline double howell_v2(double X, double Z) {
+  const double s = std::sqrt(1 + Z * Z);
+  return (std::atan(X) - std::atan(X / s) / s) / (2 * kPi);
+}
+
+// An element at the origin facing +z and the rectangle x ∈ [x0, x1], z ∈ [z0, z1] (0 ≤ z0 < z1) of the
+// plane y = c perpendicular to it: V2 by signed corners along x.
+inline double perpendicular_rectangle(double x0, double x1, double z0, double z1, double c) {
+  auto corner = [&](double x, double z) { return (x >= 0 ? 1 : -1) * howell_v2(std::abs(x) / c, z / c); };
+  return corner(x1, z1) - corner(x0, z1) - corner(x1, z0) + corner(x0, z0);
 }
 
 // The second moment ∫ cos² θ dω of a rectangle seen from an element parallel to it, its normal through

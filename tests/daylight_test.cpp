@@ -14,6 +14,7 @@
 #include "server/scene_codec.h"
 #include "solver/radiosity.h"
 #include "solver/report.h"
+#include "tests/daylight_scenes.h"
 #include "tests/sky_quadrature.h"
 #include "tests/test_geometry.h"
 
@@ -22,43 +23,7 @@ namespace {
 
 using nlohmann::json;
 using test::kDeg;
-
-json triple(const Vector3& v) { return json::array({v.x, v.y, v.z}); }
-json triple(const Point3& p) { return json::array({p.x, p.y, p.z}); }
-
-// The rectangle o + s u + t v as a polygon, front side along u × v.
-json rectangle(const std::string& name, const std::string& material, const Point3& o, const Vector3& u,
-               const Vector3& v) {
-  return {{"name", name},
-          {"material", material},
-          {"polygon", json::array({triple(o), triple(o + u), triple(o + u + v), triple(o + v)})}};
-}
-
-// A scene with materials "black" (0) and "grey" (0.5), coarse patches (the sky's light is checked at
-// probes, which take it exactly whatever the patches), and the given surfaces, lights and probes.
-json scene_with(json surfaces, json lights, json probes, const std::string& method = "dense") {
-  return {{"materials", {{"black", {{"reflectance", 0}}}, {"grey", {{"reflectance", 0.5}}}}},
-          {"surfaces", std::move(surfaces)},
-          {"lights", std::move(lights)},
-          {"probes", std::move(probes)},
-          {"meshing", {{"max_patch_area", 4}, {"refine_direct", false}}},
-          {"solver", {{"method", method}}}};
-}
-
-json solve_json(const json& scene) {
-  DecodeResult decoded = decode_scene(scene.dump());
-  if (!decoded.ok()) throw std::runtime_error(format_errors(decoded.errors));
-  const Solution sol = solve(*decoded.scene);
-  return json::parse(encode_result(*decoded.scene, sol, make_report(*decoded.scene, sol)));
-}
-
-json probe(const std::string& name, const Point3& p, const Vector3& n) {
-  return {{"name", name}, {"position", triple(p)}, {"normal", triple(n)}};
-}
-
-json sky(json type, const std::string& scale_key, double scale) {
-  return {{"type", "sky"}, {"cie_type", std::move(type)}, {scale_key, scale}, {"up", {0, 0, 1}}};
-}
+using namespace test::daylight;
 
 // A room [0,4]×[0,4]×[0,3] of `material` with an unglazed roof opening [1.5,2.5]² in its ceiling.
 json room_with_roof_opening(const std::string& material) {

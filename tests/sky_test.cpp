@@ -157,19 +157,6 @@ Room black_room(bool roof_opening, bool facade_opening) {
   return r;
 }
 
-// Howell's V2 (REFERENCES.md): an element facing up, a rectangle in the vertical plane at distance c,
-// x ∈ [0, a], z ∈ [0, b] from the foot of the perpendicular: F = (atan X − atan(X/√(1+Z²))/√(1+Z²))/2π.
-double howell_v2(double X, double Z) {
-  const double s = std::sqrt(1 + Z * Z);
-  return (std::atan(X) - std::atan(X / s) / s) / (2 * kPi);
-}
-// An element at the origin facing up and the rectangle x ∈ [x0, x1], z ∈ [z0, z1] (z0 ≥ 0) of the
-// vertical plane at distance c: V2 by signed corners.
-double floor_to_wall(double x0, double x1, double z0, double z1, double c) {
-  auto corner = [&](double x, double z) { return (x >= 0 ? 1 : -1) * howell_v2(std::abs(x) / c, z / c); };
-  return corner(x1, z1) - corner(x0, z1) - corner(x1, z0) + corner(x0, z0);
-}
-
 TEST(SkyDome, UniformSkyThroughARoofOpening) {
   // Under the uniform sky the opening is a Lambertian emitter of luminance L: E = π L F(p → opening),
   // Howell B-3 by corner decomposition, for floor points under and beside the opening. To 1e-11:
@@ -192,7 +179,7 @@ TEST(SkyDome, UniformSkyThroughAFacadeOpening) {
   const SkyDome dome(room.triangles, SkyDistribution::uniform(kUp));
   for (const Point3& p : {Point3{2, 1, 0}, Point3{0.5, 2.5, 0}, Point3{3.7, 0.4, 0}}) {
     const SkyFactors f = dome.at(p, kUp);
-    EXPECT_NEAR(f.sky, kPi * floor_to_wall(1 - p.x, 3 - p.x, 1, 2, p.y), 1e-11) << p.x << " " << p.y;
+    EXPECT_NEAR(f.sky, kPi * test::perpendicular_rectangle(1 - p.x, 3 - p.x, 1, 2, p.y), 1e-11) << p.x << " " << p.y;
     EXPECT_NEAR(f.ground, 0, 1e-15);
   }
   const Point3 q{1.6, 1.3, 1.5};

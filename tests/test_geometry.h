@@ -33,6 +33,8 @@ void for_each_box_face(const Point3& lo, const Point3& hi, Face&& face) {
 using closed_form::howell_b3;
 using closed_form::howell_c11;
 using closed_form::howell_c14;
+using closed_form::howell_v2;
+using closed_form::perpendicular_rectangle;
 using closed_form::point_under_rectangle;
 using closed_form::second_moment_b3;
 using closed_form::under_rectangle;
