@@ -16,16 +16,21 @@
 // (engine/cie171/test_cases_daylight.py), which also records the report's errata; here x points east,
 // y north, z up.
 //
-// Where a closed form exists (the uniform gradation, type 5, everywhere; the overcast sky under the
-// roof opening; the ground seen from the ceiling), the result is held to it exactly; everywhere, to the
-// printed tables.
+// Where a closed form exists (sky type 5, whose luminance is uniform, everywhere; the overcast sky at
+// the floor under the roof opening; the ground alone seen from the ceiling), the result is held to it
+// to 1e-6 per cent; everywhere else to the printed tables (tolerances at the tests). CIE 171 itself is
+// not public: the tables were checked against that transcription only, and the solve, agreeing with
+// the small openings' tables to their rounding under all 16 skies, is their second witness.
 #include <gtest/gtest.h>
 
 #include <array>
 #include <cmath>
+#include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
+#include "solver/lights/sky_luminance.h"
 #include "tests/daylight_scenes.h"
 #include "tests/test_geometry.h"
 
@@ -35,7 +40,7 @@ namespace {
 using namespace test::daylight;
 
 // ---- CIE 171:2006 Appendix B, per sky type 1–16 ----------------------------------------------------
-// kRoof1x1
+// 5.9, 1 × 1 m: Table B.1 (A–F) and B.2 (G–N).
 constexpr std::array<std::array<double, 14>, 16> kRoof1x1 = {{
     {0.46, 1.64, 2.34, 2.26, 1.88, 1.47, 2.33, 3.11, 3.84, 4.29, 4.29, 3.84, 3.11, 2.33},  // 1
     {0.40, 1.72, 2.86, 3.15, 2.90, 2.44, 4.00, 5.00, 5.47, 5.37, 4.73, 3.76, 2.76, 1.90},  // 2
@@ -54,7 +59,7 @@ constexpr std::array<std::array<double, 14>, 16> kRoof1x1 = {{
     {2.14, 4.16, 5.23, 5.47, 5.11, 4.41, 6.94, 7.19, 5.93, 4.36, 2.96, 1.90, 1.20, 0.76},  // 15
     {0.56, 1.78, 2.32, 2.20, 1.82, 1.43, 2.29, 3.07, 3.82, 4.29, 4.29, 3.82, 3.07, 2.29},  // 16
 }};
-// kRoof4x4
+// 5.9, 4 × 4 m: Tables B.3 and B.4.
 constexpr std::array<std::array<double, 14>, 16> kRoof4x4 = {{
     {37.84, 31.72, 26.85, 22.10, 17.89, 14.38, 31.87, 37.30, 41.27, 43.35, 43.35, 41.27, 37.30, 31.87},  // 1
     {42.03, 37.03, 32.75, 28.13, 23.70, 19.79, 42.01, 46.99, 49.85, 50.08, 47.76, 42.89, 36.40, 29.02},  // 2
@@ -73,7 +78,7 @@ constexpr std::array<std::array<double, 14>, 16> kRoof4x4 = {{
     {73.20, 60.07, 49.66, 41.13, 34.02, 28.29, 48.42, 49.33, 48.19, 44.25, 37.79, 29.37, 21.53, 14.91},  // 15
     {39.28, 32.32, 26.79, 21.78, 17.53, 14.05, 31.36, 36.76, 40.71, 42.76, 42.76, 40.71, 36.76, 31.36},  // 16
 }};
-// kFacadeWall2x1
+// 5.11, 2 × 1 m: Table B.9 (A–F, sky and ground), B.10 (G–N), B.11 (G'–N', ground only).
 constexpr std::array<std::array<double, 6>, 16> kFacadeWall2x1 = {{
     {0.95, 1.06, 1.25, 1.51, 1.70, 1.86},  // 1
     {0.95, 1.06, 1.18, 1.33, 1.55, 1.83},  // 2
@@ -92,7 +97,6 @@ constexpr std::array<std::array<double, 6>, 16> kFacadeWall2x1 = {{
     {0.95, 1.06, 3.17, 6.54, 6.96, 5.58},  // 15
     {0.95, 1.06, 1.28, 1.71, 2.06, 2.14},  // 16
 }};
-// kFacadeFloor2x1
 constexpr std::array<std::array<double, 8>, 16> kFacadeFloor2x1 = {{
     {0.87, 1.31, 2.02, 3.20, 5.07, 7.64, 9.33, 5.09},  // 1
     {0.92, 1.42, 2.30, 3.86, 6.58, 10.77, 13.66, 6.33},  // 2
@@ -111,7 +115,7 @@ constexpr std::array<std::array<double, 8>, 16> kFacadeFloor2x1 = {{
     {2.22, 3.12, 4.57, 6.99, 11.08, 17.18, 19.25, 5.52},  // 15
     {0.95, 1.38, 2.07, 3.19, 4.97, 7.42, 9.11, 5.04},  // 16
 }};
-// kFacadeWall4x3
+// 5.11, 4 × 3 m: Tables B.12, B.13 and B.14.
 constexpr std::array<std::array<double, 6>, 16> kFacadeWall4x3 = {{
     {5.25, 6.11, 6.98, 7.99, 8.77, 9.35},  // 1
     {5.09, 5.78, 6.56, 7.52, 8.49, 9.35},  // 2
@@ -130,7 +134,6 @@ constexpr std::array<std::array<double, 6>, 16> kFacadeWall4x3 = {{
     {9.25, 14.90, 18.88, 23.94, 26.17, 27.92},  // 15
     {5.29, 6.46, 7.67, 8.88, 9.73, 10.29},  // 16
 }};
-// kFacadeFloor4x3
 constexpr std::array<std::array<double, 8>, 16> kFacadeFloor4x3 = {{
     {4.27, 5.92, 8.33, 11.82, 16.84, 23.83, 33.05, 44.06},  // 1
     {4.70, 6.71, 9.75, 14.30, 21.00, 30.09, 41.22, 52.94},  // 2
@@ -221,8 +224,8 @@ std::vector<double> per_cent(const json& result) {
 struct Opening {
   double x0, x1, a0, a1;
 };
-constexpr Opening kRoof1x1{1.5, 2.5, 1.5, 2.5}, kRoof4x4{0, 4, 0, 4};
-constexpr Opening kFacade2x1{1, 3, 1, 2}, kFacade4x3{0, 4, 0, 3};
+constexpr Opening kRoofOpening1x1{1.5, 2.5, 1.5, 2.5}, kRoofOpening4x4{0, 4, 0, 4};
+constexpr Opening kFacadeOpening2x1{1, 3, 1, 2}, kFacadeOpening4x3{0, 4, 0, 3};
 
 // Under the roof opening, per cent of E_h. Floor: uniform sky 100 F (B-3 corners); CIE overcast sky
 // 100 (3/(7π)) (π F + 2 M), M the second moment of the opening (closed_forms.h). Wall (facing −y at
@@ -257,39 +260,97 @@ double facade_wall_uniform(const Opening& o, int k) {
   return 100 * (above + kGround * below);
 }
 
-// ---- diagnostic --------------------------------------------------------------------------------
+// ---- the cases ----------------------------------------------------------------------------------
 
-TEST(Cie171, Diagnostic) {
-  for (int roof = 0; roof < 2; ++roof)
-    for (int big = 0; big < 2; ++big)
-      for (int type = 1; type <= 16; ++type) {
-        const json scene = scene_with(roof ? roof_room(big) : facade_room(big), json::array({cie_sky(type, roof ? 0.0 : kGround)}),
-                                      cie_probes(!roof));
-        const std::vector<double> got = per_cent(solve_json(scene));
-        std::printf("%s %s type %2d:", roof ? "roof" : "facade", big ? "big" : "small", type);
-        for (std::size_t q = 0; q < got.size(); ++q) {
-          double table = 0, exact = NAN;
-          const int k = static_cast<int>(q);
-          if (roof) {
-            table = (big ? kRoof4x4 : kRoof1x1)[type - 1][q];
-            const Opening& o = big ? kRoof4x4 : kRoof1x1;
-            if (q < 6 && type == 5) exact = roof_wall_uniform(o, k);
-            if (q >= 6 && type == 5) exact = roof_floor_uniform(o, k - 6);
-            if (q >= 6 && type == 16) exact = roof_floor_overcast(o, k - 6);
-          } else {
-            const Opening& o = big ? kFacade4x3 : kFacade2x1;
-            if (q < 6) table = (big ? kFacadeWall4x3 : kFacadeWall2x1)[type - 1][q];
-            else if (q < 14) table = (big ? kFacadeFloor4x3 : kFacadeFloor2x1)[type - 1][q - 6];
-            else table = (big ? kFacadeCeiling4x3 : kFacadeCeiling2x1)[q - 14];
-            if (q < 6 && type == 5) exact = facade_wall_uniform(o, k);
-            if (q >= 6 && q < 14 && type == 5) exact = facade_floor_uniform(o, k - 6);
-            if (q >= 14) exact = facade_ceiling(o, k - 14);
-          }
-          std::printf(" %c%.3f/%.2f%s", std::abs(got[q] - table) > 0.0051 ? '*' : ' ', got[q], table,
-                      std::isnan(exact) ? "" : (std::abs(got[q] - exact) < 1e-6 ? "=" : "!"));
-        }
-        std::printf("\n");
+// What one case's table says at probe q, NaN where it gives nothing to hold the result to.
+using TableAt = std::function<double(int type, std::size_t q)>;
+// The exact answer at probe q under sky `type`, NaN where there is none.
+using ExactAt = std::function<double(int type, std::size_t q)>;
+
+// Solves the case under all 16 skies. Every exact answer holds to 1e-6 per cent (the solve integrates
+// the sky exactly at probes: what is left is the closed forms' own rounding); every table value to
+// `abs` per cent plus `rel` of itself.
+void run_case(const json& surfaces, bool ceiling, double ground, const TableAt& table, const ExactAt& exact,
+              double abs, double rel) {
+  int exact_checked = 0;
+  for (int type = 1; type <= 16; ++type) {
+    const std::vector<double> got =
+        per_cent(solve_json(scene_with(surfaces, json::array({cie_sky(type, ground)}), cie_probes(ceiling))));
+    for (std::size_t q = 0; q < got.size(); ++q) {
+      const double want = exact(type, q), printed = table(type, q);
+      if (!std::isnan(want)) {
+        EXPECT_NEAR(got[q], want, 1e-6) << "sky type " << type << ", probe " << q;
+        ++exact_checked;
       }
+      if (!std::isnan(printed))
+        EXPECT_NEAR(got[q], printed, abs + rel * printed) << "sky type " << type << ", probe " << q << " (table)";
+    }
+  }
+  EXPECT_GT(exact_checked, 0);
+}
+
+constexpr double kNone = std::numeric_limits<double>::quiet_NaN();
+
+// 5.9, points A–F on the wall, then G–N on the floor.
+TableAt roof_table(const std::array<std::array<double, 14>, 16>& t) {
+  return [&t](int type, std::size_t q) { return t[type - 1][q]; };
+}
+ExactAt roof_exact(const Opening& o) {
+  return [o](int type, std::size_t q) {
+    const int k = static_cast<int>(q);
+    if (type == 5) return q < 6 ? roof_wall_uniform(o, k) : roof_floor_uniform(o, k - 6);
+    if (type == kCieOvercastSkyType && q >= 6) return roof_floor_overcast(o, k - 6);
+    return kNone;
+  };
+}
+
+// 5.11, points A–F on the wall, G–N on the floor, G'–N' on the ceiling.
+TableAt facade_table(const std::array<std::array<double, 6>, 16>& wall, const std::array<std::array<double, 8>, 16>& floor,
+                     const std::array<double, 8>& ceiling) {
+  return [&](int type, std::size_t q) {
+    return q < 6 ? wall[type - 1][q] : q < 14 ? floor[type - 1][q - 6] : ceiling[q - 14];
+  };
+}
+ExactAt facade_exact(const Opening& o) {
+  return [o](int type, std::size_t q) {
+    const int k = static_cast<int>(q);
+    if (q >= 14) return facade_ceiling(o, k - 14);  // only the ground: the same under every sky
+    if (type != 5) return kNone;
+    return q < 6 ? facade_wall_uniform(o, k) : facade_floor_uniform(o, k - 6);
+  };
+}
+
+// The small openings: the tables hold to their printed rounding (0.005) plus 0.5 % under every sky,
+// the sun-dependent ones included, which fixes the sun's side of the room (the tables' asymmetry).
+// (Table B.1's row for sky type 3 is the errata's, its columns A–F in reverse of the printed order:
+// the solve agrees with the corrected row to 0.005.)
+TEST(Cie171, RoofOpening1x1) {
+  run_case(roof_room(false), false, 0, roof_table(kRoof1x1), roof_exact(kRoofOpening1x1), 0.005, 0.005);
+}
+
+TEST(Cie171, FacadeOpening2x1) {
+  run_case(facade_room(false), true, kGround, facade_table(kFacadeWall2x1, kFacadeFloor2x1, kFacadeCeiling2x1),
+           facade_exact(kFacadeOpening2x1), 0.005, 0.005);
+}
+
+// The whole ceiling or wall open: here the published values stray from the closed forms themselves,
+// most beside the opening's edge: under the uniform sky (type 5) wall point A of the open roof is
+// 46.74 % in Table B.3 and 45.12 % exactly (Howell V2), façade wall point A 6.43 % against 6.18 %,
+// ceiling point N' 13.59 % against 13.35 % for every sky. The result is held to the closed forms to
+// 1e-6 and to the tables only to 10 %, which still tells a sun on the wrong side (the sunny skies'
+// tables differ by 30 % and more from one side of the room to the other). Two table entries are left
+// out: B.4's point G under sky 13 (42.07 % between 48.25 % and its mirror image's neighbours; the
+// solve gives 47.01 %, a misprint of 47.07 % by every look of it) and B.13's row for sky 14, which
+// the transcription gives as a copy of sky 15's (the solve's sky-15 row agrees with it to 0.5 %).
+TEST(Cie171, RoofOpening4x4) {
+  const TableAt table = [](int type, std::size_t q) { return type == 13 && q == 6 ? kNone : kRoof4x4[type - 1][q]; };
+  run_case(roof_room(true), false, 0, table, roof_exact(kRoofOpening4x4), 0, 0.10);
+}
+
+TEST(Cie171, FacadeOpening4x3) {
+  const TableAt printed = facade_table(kFacadeWall4x3, kFacadeFloor4x3, kFacadeCeiling4x3);
+  const TableAt table = [&](int type, std::size_t q) { return type == 14 && q >= 6 && q < 14 ? kNone : printed(type, q); };
+  run_case(facade_room(true), true, kGround, table, facade_exact(kFacadeOpening4x3), 0, 0.10);
 }
 
 }  // namespace
