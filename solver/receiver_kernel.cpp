@@ -81,6 +81,7 @@ double receiver_triangle_factor(const Receiver& r, const Triangle& t) {
   switch (r.kind) {
     case Receiver::Kind::Hemispherical:
       return std::max(0.0, 0.25 * (triangle_solid_angle(r.point, t) * kInvPi + point_boundary_factor(r.point, r.normal, t.v)));
+    case Receiver::Kind::Spherical: return 0.25 * triangle_solid_angle(r.point, t) * kInvPi;
     case Receiver::Kind::Cylindrical: return cylinder_triangle_factor(r.point, r.normal, t);
     case Receiver::Kind::Semicylindrical:
       return std::max(0.0, cylinder_triangle_factor(r.point, r.normal, t) + kInvPi * point_boundary_factor(r.point, r.facing, t.v));
@@ -133,6 +134,15 @@ double receiver_by_planes(const Receiver& r, const std::function<double(const Ve
         return integrate(E, 0, 2 * kPi, rel_tolerance) * s;
       };
       return integrate(ring, 0, kPi / 2, rel_tolerance) / (2 * kPi);
+    }
+    case Receiver::Kind::Spherical: {  // (1/4π) ∫ E(m) dΩ_m over every normal m
+      const Vector3 a{0, 0, 1}, u{1, 0, 0}, v{0, 1, 0};
+      auto ring = [&](double beta) {
+        const double s = std::sin(beta), c = std::cos(beta);
+        auto E = [&](double phi) { return planar(a * c + (u * std::cos(phi) + v * std::sin(phi)) * s); };
+        return integrate(E, 0, 2 * kPi, rel_tolerance) * s;
+      };
+      return integrate(ring, 0, kPi, rel_tolerance) / (4 * kPi);
     }
     case Receiver::Kind::Planar: break;
   }

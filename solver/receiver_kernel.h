@@ -6,6 +6,7 @@
 //
 //   planar:          the Lambert/Hottel contour integral, clipped at the receiver's horizon
 //                    (point_triangle_factor, solver/form_factor.h);
+//   spherical:       w = 1/4: K = Ω(T)/(4π), the solid angle (Van Oosterom & Strackee);
 //   hemispherical:   w = (1 + n·ω)/4 is linear in ω, so K = Ω(T)/(4π) + (1/4π) n·V(T), with Ω the solid
 //                    angle (Van Oosterom & Strackee) and V(T) = ∫_{Ω(T)} ω dω the vector irradiance, whose
 //                    component along n is the contour sum π point_boundary_factor(p, n, T) — exact
@@ -59,6 +60,7 @@ Vector3 region_normal(const Receiver& receiver, const Vector3& source_normal);
 //   cylindrical      (1/2π) ∫_0^{2π} E(n(φ)) dφ,        n(φ) ⊥ a
 //   semicylindrical  (1/π) ∫_{−π/2}^{π/2} E(n(φ)) dφ,    φ from f
 //   hemispherical    (1/2π) ∫_{m·n ≥ 0} E(m) dΩ_m        (polar angle and azimuth, nested)
+//   spherical        (1/4π) ∫_{4π} E(m) dΩ_m
 // by adaptive Gauss–Kronrod to rel_tolerance (planar: E(n) itself). Exact for any light whose planar
 // E is; the default receiver_factor of a light without a closed form (light_model.h).
 double receiver_by_planes(const Receiver& receiver, const std::function<double(const Vector3& normal)>& planar,

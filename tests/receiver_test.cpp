@@ -48,11 +48,11 @@ double sphere_integral(const Receiver& r) {
 
 TEST(Receiver, EveryWeightIntegratesToPiOverTheSphere) {
   // A uniform radiance L gives every receiver E = π L (a diffuse field lights every surface alike):
-  // ∫ (n·ω)⁺ dω = π, ∫ sin θ/π dω = π, ∫ (sin θ + f·ω)/π dω = π, ∫ (1 + n·ω)/4 dω = π.
+  // ∫ (n·ω)⁺ dω = π, ∫ sin θ/π dω = π, ∫ (sin θ + f·ω)/π dω = π, ∫ (1 + n·ω)/4 dω = π, ∫ 1/4 dω = π.
   const Point3 o{0, 0, 0};
   for (const Receiver& r : {make(Receiver::Kind::Planar, o, {1, 2, 3}), make(Receiver::Kind::Cylindrical, o, kUp),
                             make(Receiver::Kind::Semicylindrical, o, kUp, {1, 0, 0}),
-                            make(Receiver::Kind::Hemispherical, o, {0, 1, 1})})
+                            make(Receiver::Kind::Hemispherical, o, {0, 1, 1}), make(Receiver::Kind::Spherical, o, kUp)})
     EXPECT_NEAR(sphere_integral(r), kPi, 1e-5) << static_cast<int>(r.kind);
 }
 
@@ -166,7 +166,7 @@ std::vector<Triangle> kernel_cases() {
 }
 
 TEST(ReceiverKernel, AgainstThePlanarDecompositionOfTheContourIntegral) {
-  // The cylindrical part (area cubature), the semicylindrical and hemispherical closed forms, each
+  // The cylindrical part (area cubature), the semicylindrical, hemispherical and spherical closed forms, each
   // against the mean of Lambert's contour integral over the receiver's normals (receiver_by_planes
   // of point_triangle_factor): a second method sharing no code with the kernel but the contour sum.
   const Point3 p{0, 0, 0};
@@ -176,7 +176,8 @@ TEST(ReceiverKernel, AgainstThePlanarDecompositionOfTheContourIntegral) {
     for (const Receiver& r : {make(Receiver::Kind::Cylindrical, p, kUp), make(Receiver::Kind::Cylindrical, p, {1, 1, 0}),
                               make(Receiver::Kind::Semicylindrical, p, kUp, {0, -1, 0}),
                               make(Receiver::Kind::Semicylindrical, p, kUp, {-1, 0, 0}),
-                              make(Receiver::Kind::Hemispherical, p, kUp), make(Receiver::Kind::Hemispherical, p, {-1, 0, 0})}) {
+                              make(Receiver::Kind::Hemispherical, p, kUp), make(Receiver::Kind::Hemispherical, p, {-1, 0, 0}),
+                              make(Receiver::Kind::Spherical, p, kUp)}) {
       const double kernel = receiver_triangle_factor(r, t);
       const double planes = receiver_by_planes(r, [&](const Vector3& n) { return point_triangle_factor(p, n, t); }, 1e-10);
       EXPECT_NEAR(kernel, planes, 1e-7 * std::max(planes, 1e-3)) << static_cast<int>(r.kind) << " " << t.v[0].x;
@@ -211,7 +212,8 @@ TEST(ReceiverKernel, CubatureReducesToTheContourIntegralAndTheHemisphericalClose
 TEST(ReceiverKernel, NothingFromBehind) {
   const Triangle t{{Point3{-1, -1, 1}, Point3{1, -1, 1}, Point3{0, 1, 1}}};  // faces +z: the point below sees its back
   for (const Receiver& r : {make(Receiver::Kind::Cylindrical, {0, 0, 0}, kUp), make(Receiver::Kind::Hemispherical, {0, 0, 0}, kUp),
-                            make(Receiver::Kind::Semicylindrical, {0, 0, 0}, kUp, {1, 0, 0})})
+                            make(Receiver::Kind::Semicylindrical, {0, 0, 0}, kUp, {1, 0, 0}),
+                            make(Receiver::Kind::Spherical, {0, 0, 0}, kUp)})
     EXPECT_EQ(receiver_triangle_factor(r, t), 0.0);
 }
 
