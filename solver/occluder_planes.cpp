@@ -15,10 +15,11 @@ constexpr double kMaxClassificationWork = 3e7;
 
 }  // namespace
 
-OccluderPlanes::OccluderPlanes(std::span<const Triangle> triangles) {
+OccluderPlanes::OccluderPlanes(std::span<const Triangle> triangles, std::span<const Point3> receivers) {
   Bounds3 box;
   for (const Triangle& t : triangles)
     for (const Point3& p : t.v) box.add(p);
+  for (const Point3& p : receivers) box.add(p);
   if (box.empty()) {
     usable_ = true;
     return;
@@ -47,6 +48,10 @@ OccluderPlanes::OccluderPlanes(std::span<const Triangle> triangles) {
       c.vertices.push_back(r);
       distinct_points.try_emplace({q(r.x, eps_), q(r.y, eps_), q(r.z, eps_)}, r);
     }
+  }
+  for (const Point3& p : receivers) {
+    const Vector3 r = p - centre_;
+    distinct_points.try_emplace({q(r.x, eps_), q(r.y, eps_), q(r.z, eps_)}, r);
   }
   if (static_cast<double>(distinct_planes.size()) * static_cast<double>(distinct_points.size()) > kMaxClassificationWork)
     return;  // not usable

@@ -27,8 +27,10 @@ class OccluderPlanes {
   static constexpr int kWords = kMaxGroups * 8 / 64;  // one byte per group
 
   // The scene's triangles (the occluders). Scenes with more than kMaxGroups distinct occluder planes,
-  // or too large to classify cheaply, are not usable: every pair must then be traced.
-  explicit OccluderPlanes(std::span<const Triangle> triangles);
+  // or too large to classify cheaply, are not usable: every pair must then be traced. `receivers`:
+  // points off the triangles that will be asked about too (probe points in the air), which count as
+  // part of the scene: a plate with nothing behind it but a probe occludes that probe.
+  explicit OccluderPlanes(std::span<const Triangle> triangles, std::span<const Point3> receivers = {});
 
   bool usable() const { return usable_; }
   std::size_t planes() const { return groups_.size(); }

@@ -20,7 +20,9 @@ DenseOperator::DenseOperator(const Scene& scene, std::vector<Patch> patches, Sol
   for (std::size_t i = 0; i < N; ++i) occluders[i] = patches_[i].triangle;
   vis_ = std::make_unique<Visibility>(occluders, Visibility::Estimates::fast);  // link rays in the fast BVH
   // Pairs that no occluder plane separates need no rays, links and probes alike (occluder_planes.h).
-  planes_ = std::make_unique<OccluderPlanes>(input_triangles(scene));
+  std::vector<Point3> probe_points;  // probes in the air are behind planes that nothing else is behind
+  for (const Probe& probe : scene.probes) probe_points.insert(probe_points.end(), probe.points.begin(), probe.points.end());
+  planes_ = std::make_unique<OccluderPlanes>(input_triangles(scene), probe_points);
   const std::vector<char> two_sided = input_two_sided(scene);
   sides_.resize(planes_->usable() ? N : 0);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, sides_.size(), 256), [&](const auto& range) {
