@@ -11,6 +11,7 @@
 #include <atomic>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -94,6 +95,8 @@ struct SourceContribution {
   std::vector<ProbeResult> probes;  // parallel to Scene::probes
 };
 
+struct RadiantExchange;  // solver/thermal/radiant.h
+
 struct Solution {
   WavelengthGrid grid;
   std::vector<Patch> patches;
@@ -102,6 +105,9 @@ struct Solution {
   std::vector<ProbeResult> probes;  // parallel to Scene::probes
   std::vector<SourceContribution> contributions;  // with output.per_source: lights, then emitters
   std::vector<GlareResult> glare;   // parallel to Scene::glare
+  // With output.view_factors or "thermal" surfaces: the view factors and the radiant exchange, on
+  // patches of their own (the geometry's, not refined by the light).
+  std::shared_ptr<const RadiantExchange> radiant;
   SolveStats stats;
   std::vector<std::string> warnings;
   std::size_t wavelengths() const { return grid.size(); }

@@ -44,12 +44,23 @@ struct Emission {
 // What a surface is in a room (SPEC §5 "role"): the task-area summary's walls, ceiling and floor.
 enum class SurfaceRole { None, Wall, Ceiling, Floor };
 
+// Total, grey thermal radiation of a surface (radiant exchange, solver/thermal/): the emissivity ε
+// (equal to its absorptance; the rest, 1 − ε, is reflected diffusely) and exactly one of its
+// temperature (it emits ε σ T⁴) or the net radiative flux it must have (emitted − absorbed, W/m²; 0 for
+// a reradiating, adiabatic surface, whose radiosity then equals its irradiance).
+struct SurfaceThermal {
+  double emissivity = 1;                  // in [0, 1]; > 0 with a net flux
+  std::optional<double> temperature_K;    // > 0
+  std::optional<double> net_flux_W_m2;
+};
+
 struct Surface {
   std::string name;
   SurfaceRole role = SurfaceRole::None;
   int material = 0;                 // index into Scene::materials
   TriangleMesh mesh;                // metres; counter-clockwise = front (lit) side
   std::optional<Emission> emission;
+  std::optional<SurfaceThermal> thermal;  // on every surface or on none
   std::string pointer;              // JSON pointer of the surface in the scene, for messages
   // Set by solve(), not by the decoder: per triangle of `mesh`, 1 where it lies back to back on a
   // triangle of another surface (the two faces of a sheet of zero thickness). A ray meets either
@@ -198,6 +209,9 @@ struct SolverOptions {
 struct OutputOptions {
   bool spectral = true;
   bool per_source = false;  // also return each source's contribution (the solution is linear in them)
+  // The surface-to-surface view factors (solver/thermal/view_factors.h). The patch-to-patch matrix,
+  // which can outgrow any result, is `lambert viewfactors --patches`'s alone.
+  bool view_factors = false;
 };
 
 struct Scene {

@@ -64,6 +64,11 @@ void DenseOperator::classify_hemispheres(const SolveControl& control) {
 // the probe's rays resolve) and no probe is needed; the others are probed.
 bool DenseOperator::next_round(const SpectralSystems&, const SolveControl& control) {
   if (formed_) return false;
+  form(control);
+  return true;
+}
+
+void DenseOperator::form(const SolveControl& control) {
   formed_ = true;
   const std::size_t N = patches_.size();
   factors_ = form_dense_factors(patches_, *vis_, *planes_, sides_, hemisphere_, control);
@@ -76,7 +81,6 @@ bool DenseOperator::next_round(const SpectralSystems&, const SolveControl& contr
                            : hemisphere_from_coverage(std::accumulate(&F[i * N], &F[i * N] + N, 0.0));
     }
   });
-  return true;
 }
 
 // Closure: a patch whose hemisphere is closed (no probe ray escapes or hits the back of a surface)
@@ -85,7 +89,15 @@ bool DenseOperator::next_round(const SpectralSystems&, const SolveControl& contr
 // (symmetric_row_scaling: Newton steps, or Sinkhorn sweeps where those stall; D = 1 on open patches)
 // restores it, keeping reciprocity A_i F_ij = A_j F_ji exact while closing every closed row: energy
 // is conserved and the furnace gives B = M/(1 − ρ) exactly. The size of the correction is reported.
-void DenseOperator::close_rows(const SpectralSystems&, const SolveControl&) {
+void DenseOperator::close_rows(const SpectralSystems&, const SolveControl&) { close(); }
+
+void DenseOperator::build_geometric(const SolveControl& control) {
+  classify_hemispheres(control);
+  form(control);
+  close();
+}
+
+void DenseOperator::close() {
   const std::size_t N = patches_.size();
   std::vector<double>& F = factors_.F;
   std::vector<char> closing(N, 0);
@@ -162,6 +174,14 @@ void DenseOperator::apply_transpose(const double* w, double* out) const {
 
 std::unique_ptr<PointGather> DenseOperator::point_gather(const std::vector<const double*>& B) const {
   return std::make_unique<DensePointGather>(scene_, patches_, *vis_, *planes_, sides_, B);
+}
+
+void DenseOperator::visit_factors(const FactorVisitor& visit) const {
+  const std::size_t N = patches_.size();
+  const std::vector<double>& F = factors_.F;
+  for (std::size_t i = 0; i < N; ++i)
+    for (std::size_t j = 0; j < N; ++j)
+      if (F[i * N + j] != 0) visit(i, j, F[i * N + j]);
 }
 
 void DenseOperator::report(SolveStats& stats) const {

@@ -26,15 +26,20 @@ class DenseOperator final : public TransportOperator {
   const std::vector<Hemisphere>& hemispheres() const override { return hemisphere_; }
   bool next_round(const SpectralSystems& systems, const SolveControl& control) override;
   void close_rows(const SpectralSystems& systems, const SolveControl& control) override;
+  // F depends on the geometry alone: the solve's one round without its systems.
+  void build_geometric(const SolveControl& control) override;
 
   void apply(const std::vector<const double*>& V, const std::vector<double*>& FV) const override;
   BatchOperator among(std::span<const int> unknowns) const override;
   void apply_transpose(const double* w, double* out) const override;
   std::unique_ptr<PointGather> point_gather(const std::vector<const double*>& B) const override;
+  void visit_factors(const FactorVisitor& visit) const override;  // row by row
   void report(SolveStats& stats) const override;
 
  private:
   Hemisphere probe(std::size_t i) const;
+  void form(const SolveControl& control);
+  void close();
   void measure_reciprocity();
 
   const Scene& scene_;

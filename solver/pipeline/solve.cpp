@@ -10,6 +10,7 @@
 #include "solver/pipeline/pipeline.h"
 #include "solver/pipeline/prepare.h"
 #include "solver/radiosity.h"
+#include "solver/thermal/radiant.h"
 
 namespace lambert {
 namespace {
@@ -94,12 +95,33 @@ Solution solve_method(const Scene& scene, const SolveControl& control) {
 
 }  // namespace
 
+// The view factors and radiant exchange (output.view_factors, "thermal" surfaces; first, so that a
+// scene they cannot serve fails at once), then the light, each reporting its progress in its half.
 Solution solve(const Scene& scene, const SolveControl& control) {
+  const bool radiant = wants_radiant_exchange(scene);
+  auto half = [&](double from) {
+    SolveControl c = control;
+    if (radiant && control.progress) c.progress = [&control, from](double f) { control.progress(from + f / 2); };
+    return c;
+  };
+  std::shared_ptr<RadiantExchange> exchange;
+  if (radiant) {
+    RadiantOptions options;
+    options.thermal = std::any_of(scene.surfaces.begin(), scene.surfaces.end(),
+                                  [](const Surface& s) { return s.thermal.has_value(); });
+    exchange = std::make_shared<RadiantExchange>(
+        radiant_exchange(scene, SurfaceGroups::each_surface(scene), options, half(0)));
+  }
+  const SolveControl light_control = half(0.5);
   enter_stage(control, SolveStage::Meshing);
-  const PreparedScene prepared(scene, control);
-  Solution sol = solve_method(prepared.scene(), control);
+  const PreparedScene prepared(scene, light_control);
+  Solution sol = solve_method(prepared.scene(), light_control);
   measure_sky_components(prepared.scene(), sol, control);
   prepared.finish(sol);
+  if (exchange) {
+    sol.warnings.insert(sol.warnings.end(), exchange->factors.warnings.begin(), exchange->factors.warnings.end());
+    sol.radiant = std::move(exchange);
+  }
   return sol;
 }
 

@@ -10,6 +10,7 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
 #include <memory>
 #include <span>
 #include <vector>
@@ -61,6 +62,14 @@ class TransportOperator {
   // that keeps reciprocity; hierarchical: rows and columns balanced, Sinkhorn–Knopp).
   virtual void close_rows(const SpectralSystems& systems, const SolveControl& control) = 0;
 
+  // ---- building it for the geometry alone (view factors and radiant exchange, solver/thermal/) ----
+  // F as if every patch sent unit radiosity: the hemispheres classified, F built (a refining method
+  // refines as it would for uniform radiosity on every patch) and the closed rows balanced, without
+  // any spectral system. Afterwards hemispheres(), apply(), among(), apply_transpose(),
+  // point_gather() and report() serve as they do after a solve's rounds. A method that cannot build
+  // so throws SolveError (the default).
+  virtual void build_geometric(const SolveControl& control);
+
   // ---- applying it ----
   // FV[k] = F V[k] for K vectors over all patches.
   virtual void apply(const std::vector<const double*>& V, const std::vector<double*>& FV) const = 0;
@@ -72,6 +81,12 @@ class TransportOperator {
   virtual void apply_transpose(const double* w, double* out) const = 0;
   // Gathering at points from the radiosity vectors B (all patches each).
   virtual std::unique_ptr<PointGather> point_gather(const std::vector<const double*>& B) const = 0;
+  // Every factor F_ij that is not zero, once, as visit(i, j, F_ij), in no promised order (the patch-to-
+  // patch matrix of `lambert viewfactors --patches`). By default F's columns from apply() on unit
+  // vectors, 64 at a time (N applications of F in all: small scenes); a method that stores F
+  // overrides it.
+  using FactorVisitor = std::function<void(std::size_t i, std::size_t j, double F_ij)>;
+  virtual void visit_factors(const FactorVisitor& visit) const;
 
   // The method's stats (links, rays, closure, reciprocity, its own counters).
   virtual void report(SolveStats& stats) const = 0;
