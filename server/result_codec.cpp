@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "server/evaluation_codec.h"
+#include "server/viewfactors/radiant_json.h"
 #include "solver/rgb_model.h"
 
 namespace lambert {
@@ -258,6 +259,11 @@ void write_result(std::ostream& os, const Scene& scene, const Solution& sol, con
     out["sources"] = std::move(sources);
   }
 
+  if (sol.radiant) {
+    if (scene.output.view_factors) out["view_factors"] = view_factors_json(*sol.radiant, scene.unit_m);
+    if (sol.radiant->thermal) out["thermal"] = thermal_json(scene, *sol.radiant);
+  }
+
   const SolveStats& st = sol.stats;
   out["stats"] = {
       {"patches", st.patches},
@@ -368,6 +374,17 @@ ResultSizeBound result_size_bound(const Scene& scene) {
   // id, 3 vertices, area, normal, lux, cd/m², xyz, xy, rgb_ebu, srgb, srgb_encoded, melanopic: 32 numbers.
   b.per_patch_bytes = kElement + static_cast<double>(longest_surface_name) + kNumber * (32 + 3 * W * spectral) +
                       sources * kNumber * (2 + 2 * W * spectral);
+  // "view_factors" (S × S factors, per surface its name, area and row sum) and "thermal" (per surface
+  // its name and 5 numbers; per point of a probe its position, 2 temperatures and S factors; per patch
+  // of the exchange, which the same budget bounds, id, surface, 3 vertices, area and 5 numbers).
+  const bool thermal = std::any_of(scene.surfaces.begin(), scene.surfaces.end(), [](const Surface& s) { return s.thermal.has_value(); });
+  const double S = static_cast<double>(scene.surfaces.size());
+  if (scene.output.view_factors || thermal) b.fixed_bytes += kElement + kNumber * S * (S + 2) + S * (kElement + static_cast<double>(longest_surface_name));
+  if (thermal) {
+    b.fixed_bytes += S * (kElement + static_cast<double>(longest_surface_name) + 5 * kNumber);
+    for (const Probe& p : scene.probes) b.fixed_bytes += kElement + kNumber * static_cast<double>(p.points.size()) * (5 + S);
+    b.per_patch_bytes += kElement + static_cast<double>(longest_surface_name) + kNumber * 17;
+  }
   return b;
 }
 
@@ -393,6 +410,15 @@ std::string summarize(const Scene& scene, const Solution& sol, const Report& rep
     std::snprintf(line, sizeof line, "probe %-18s mean %.4f lx (min %.4f, max %.4f, Emin/Emean %.3f)\n",
                   scene.probes[k].name.c_str(), p.mean_lx, p.min_lx, p.max_lx, p.min_over_mean);
     s += line;
+  }
+  if (sol.radiant && sol.radiant->thermal) {
+    const GreyExchange& g = *sol.radiant->thermal;
+    s += "radiant exchange (net = emitted − absorbed):\n";
+    for (std::size_t I = 0; I < g.surfaces.size(); ++I) {
+      std::snprintf(line, sizeof line, "  %-24s %12.4f W/m²  %14.6g W\n", sol.radiant->factors.names[I].c_str(),
+                    g.surfaces[I].net_flux_W_m2, g.surfaces[I].net_W);
+      s += line;
+    }
   }
   for (const std::string& w : sol.warnings) s += "warning: " + w + "\n";
   return s;

@@ -117,6 +117,47 @@ TEST(Http, SolveReturnsTheResultOfTheScene) {
   EXPECT_NEAR(probe_lx(result, "side"), expected_side(100), 1e-6 * expected_side(100));
 }
 
+// output.view_factors and "thermal" surfaces over HTTP: the unit cube's factors (Howell C-11 between
+// opposite faces, C-14 between adjacent ones) and, its faces black, the radiant exchange
+// q_I = σ T_I⁴ − Σ_J F_IJ σ T_J⁴, and at its centre the mean radiant temperature (Σ T_I⁴ / 6)^¼.
+TEST(Http, ViewFactorsAndRadiantExchangeOfTheUnitCube) {
+  const double T[] = {320, 290, 300, 310, 305, 295};
+  const char* names[] = {"floor", "ceiling", "west", "east", "south", "north"};
+  const std::vector<std::vector<std::array<double, 3>>> faces = {
+      {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}}, {{0, 0, 1}, {0, 1, 1}, {1, 1, 1}, {1, 0, 1}},
+      {{0, 0, 0}, {0, 1, 0}, {0, 1, 1}, {0, 0, 1}}, {{1, 0, 0}, {1, 0, 1}, {1, 1, 1}, {1, 1, 0}},
+      {{0, 0, 0}, {0, 0, 1}, {1, 0, 1}, {1, 0, 0}}, {{0, 1, 0}, {1, 1, 0}, {1, 1, 1}, {0, 1, 1}}};
+  json scene = {{"spectrum", {{"mode", "spectral"}, {"wavelengths_nm", {555}}}},
+                {"materials", {{"black", {{"reflectance", 0}}}}},
+                {"surfaces", json::array()},
+                {"probes", json::array({{{"name", "centre"}, {"position", {0.5, 0.5, 0.5}}, {"normal", {0, 0, 1}}}})},
+                {"meshing", {{"max_patch_area", 0.02}}},
+                {"output", {{"view_factors", true}}}};
+  for (int I = 0; I < 6; ++I)
+    scene["surfaces"].push_back({{"name", names[I]}, {"material", "black"}, {"polygon", faces[I]},
+                                 {"thermal", {{"emissivity", 1}, {"temperature_K", T[I]}}}});
+  TestServer server;
+  const json result = expect_json(server.client()->Post("/v1/solve", scene.dump(), "application/json"), 200);
+  const json& vf = result.at("view_factors");
+  const double sigma = 5.670374419e-8;
+  double mean_T4 = 0;
+  for (int I = 0; I < 6; ++I) {
+    double absorbed = 0;
+    for (int J = 0; J < 6; ++J) {
+      const double F = I == J ? 0 : I / 2 == J / 2 ? 0.1998248957 : 0.2000437761;  // C-11, C-14 (X = Y = 1)
+      EXPECT_NEAR(vf["F"][I][J].get<double>(), F, 1e-6);
+      absorbed += F * sigma * std::pow(T[J], 4);
+    }
+    const json& s = result.at("thermal").at("surfaces")[I];
+    EXPECT_EQ(s["name"], names[I]);
+    EXPECT_NEAR(s["thermal"]["net_flux_W_m2"].get<double>(), sigma * std::pow(T[I], 4) - absorbed, 1e-3);
+    mean_T4 += std::pow(T[I], 4) / 6;
+  }
+  EXPECT_EQ(vf["geometry_hash"], result["thermal"]["geometry_hash"]);
+  const json& centre = result["thermal"]["probes"][0];
+  EXPECT_NEAR(centre["mean_radiant_temperature_K"].get<double>(), std::pow(mean_T4, 0.25), 1e-9);
+}
+
 TEST(Http, SolveAcceptsAGzipBody) {
   TestServer server;
   auto cli = server.client();

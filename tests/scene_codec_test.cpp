@@ -639,3 +639,54 @@ TEST(SceneCodecErrors, FormatErrorsNamesTheDocument) {
 
 }  // namespace
 }  // namespace lambert
+
+namespace lambert {
+namespace {
+
+// "thermal" on surfaces and output.view_factors (SPEC §5).
+std::string thermal_floor(const std::string& name, const std::string& thermal) {
+  return R"({"name": ")" + name + R"(", "material": "white", "polygon": [[0,0,0], [0,0,1], [1,0,1], [1,0,0]], "thermal": )" +
+         thermal + "}";
+}
+std::string plain_floor(const std::string& name) {
+  return R"({"name": ")" + name + R"(", "material": "white", "polygon": [[0,0,0], [0,0,1], [1,0,1], [1,0,0]]})";
+}
+
+TEST(SceneCodec, ThermalAndViewFactors) {
+  const auto scene = decode_ok(scene_with_surfaces(
+      thermal_floor("a", R"({"emissivity": 0.9, "temperature_K": 300})") + "," +
+          thermal_floor("b", R"({"emissivity": 0.5, "net_flux_W_m2": -20})"),
+      R"("output": {"view_factors": true})"));
+  ASSERT_TRUE(scene);
+  ASSERT_TRUE(scene->surfaces[0].thermal && scene->surfaces[1].thermal);
+  EXPECT_EQ(scene->surfaces[0].thermal->emissivity, 0.9);
+  EXPECT_EQ(*scene->surfaces[0].thermal->temperature_K, 300);
+  EXPECT_FALSE(scene->surfaces[0].thermal->net_flux_W_m2);
+  EXPECT_EQ(*scene->surfaces[1].thermal->net_flux_W_m2, -20);
+  EXPECT_TRUE(scene->output.view_factors);
+  EXPECT_FALSE(decode_ok(scene_with(R"("output": {"view_factors": false})"))->output.view_factors);
+}
+
+TEST(SceneCodecErrors, ThermalIsCheckedAndOnEverySurface) {
+  const std::string t300 = R"({"emissivity": 0.9, "temperature_K": 300})";
+  EXPECT_TRUE(HasError(scene_with_surfaces(thermal_floor("a", t300) + "," + plain_floor("b")), "/surfaces/1",
+                       "\"thermal\" is needed on every surface once one has it"));
+  EXPECT_TRUE(HasError(scene_with_surfaces(thermal_floor("a", R"({"emissivity": 0.9, "temperature_K": 300,
+                                                                  "net_flux_W_m2": 0})")),
+                       "/surfaces/0/thermal", "not both"));
+  EXPECT_TRUE(HasError(scene_with_surfaces(thermal_floor("a", R"({"emissivity": 0.9})")), "/surfaces/0/thermal",
+                       "\"temperature_K\" or its \"net_flux_W_m2\""));
+  EXPECT_TRUE(HasError(scene_with_surfaces(thermal_floor("a", R"({"temperature_K": 300})")), "/surfaces/0/thermal",
+                       "\"emissivity\" is required"));
+  EXPECT_TRUE(HasError(scene_with_surfaces(thermal_floor("a", R"({"emissivity": 1.2, "temperature_K": 300})")),
+                       "/surfaces/0/thermal/emissivity", "outside [0, 1]"));
+  EXPECT_TRUE(HasError(scene_with_surfaces(thermal_floor("a", R"({"emissivity": 0.9, "temperature_K": -3})")),
+                       "/surfaces/0/thermal/temperature_K", "-3 is outside (0, 1e+05]"));
+  EXPECT_TRUE(HasError(scene_with_surfaces(thermal_floor("a", R"({"emissivity": 0, "net_flux_W_m2": 5})")),
+                       "/surfaces/0/thermal/net_flux_W_m2", "neither emits nor absorbs"));
+  EXPECT_TRUE(HasError(scene_with(R"("output": {"view_factors": "yes"})"), "/output/view_factors",
+                       "expected a boolean"));
+}
+
+}  // namespace
+}  // namespace lambert

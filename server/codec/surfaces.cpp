@@ -14,6 +14,7 @@
 #include "server/codec/mesh_files.h"
 #include "server/codec/sections.h"
 #include "server/codec/spectra.h"
+#include "server/codec/thermal.h"
 
 namespace lambert::codec {
 namespace {
@@ -330,7 +331,7 @@ SurfaceRole decode_role(Decoder& d, const json& j, const std::string& p) {
 void decode_surface(Decoder& d, const json& j, std::size_t i,
                     std::map<std::string, std::string>& names) {
   const std::string p = index_ptr("/surfaces", i);
-  if (!d.object(j, p, {"name", "material", "polygon", "mesh", "file", "transform", "emission", "role"}))
+  if (!d.object(j, p, {"name", "material", "polygon", "mesh", "file", "transform", "emission", "role", "thermal"}))
     return;
   Surface surface;
   surface.pointer = p;
@@ -345,6 +346,10 @@ void decode_surface(Decoder& d, const json& j, std::size_t i,
   if (const json* e = d.member(j, "emission"))
     surface.emission = decode_emission(d, *e, p + "/emission", area_m2);
   if (const json* r = d.member(j, "role")) surface.role = decode_role(d, *r, p + "/role");
+  if (const json* t = d.member(j, "thermal")) {
+    surface.thermal = decode_thermal(d, *t, p + "/thermal");
+    if (!surface.thermal) surface.thermal = SurfaceThermal{};  // reported; kept so that it is not reported missing
+  }
   d.scene().surfaces.push_back(std::move(surface));
 }
 
@@ -355,6 +360,7 @@ void decode_surfaces(Decoder& d, const json& doc) {
   if (!surfaces || !d.array(*surfaces, "/surfaces", 1)) return;
   std::map<std::string, std::string> names;  // name -> pointer of its first use
   for (std::size_t i = 0; i < surfaces->size(); ++i) decode_surface(d, (*surfaces)[i], i, names);
+  check_thermal_everywhere(d);
 }
 
 }  // namespace lambert::codec
