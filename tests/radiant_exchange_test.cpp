@@ -8,6 +8,7 @@
 
 #include "solver/pipeline/geometric.h"
 #include "solver/thermal/radiant.h"
+#include "tests/net_radiation.h"
 #include "tests/scene_builder.h"
 
 namespace lambert {
@@ -113,27 +114,11 @@ double box_factor(const Vector3& d, int I, int J) {
   return test::howell_c14(dim[n2] / dim[e], dim[n1] / dim[e]);
 }
 
-// J_I − ρ_I Σ_J F_IJ J_J = ε_I σ T_I⁴ by Gaussian elimination with partial pivoting.
-std::array<double, 6> hand_solved_radiosity(const Vector3& d, const std::array<SurfaceThermal, 6>& t) {
-  double A[6][7];
-  for (int I = 0; I < 6; ++I) {
-    for (int J = 0; J < 6; ++J) A[I][J] = (I == J) - (1 - t[I].emissivity) * box_factor(d, I, J);
-    A[I][6] = t[I].emissivity * sigma_T4(*t[I].temperature_K);
-  }
-  for (int c = 0; c < 6; ++c) {
-    int p = c;
-    for (int r = c + 1; r < 6; ++r)
-      if (std::abs(A[r][c]) > std::abs(A[p][c])) p = r;
-    for (int k = 0; k < 7; ++k) std::swap(A[c][k], A[p][k]);
-    for (int r = 0; r < 6; ++r) {
-      if (r == c) continue;
-      const double f = A[r][c] / A[c][c];
-      for (int k = c; k < 7; ++k) A[r][k] -= f * A[c][k];
-    }
-  }
-  std::array<double, 6> J;
-  for (int I = 0; I < 6; ++I) J[I] = A[I][6] / A[I][I];
-  return J;
+// J_I − ρ_I Σ_J F_IJ J_J = ε_I σ T_I⁴ over the box's faces (tests/net_radiation.h).
+std::vector<double> hand_solved_radiosity(const Vector3& d, const std::array<SurfaceThermal, 6>& t) {
+  std::vector<double> eps, T;
+  for (const SurfaceThermal& s : t) eps.push_back(s.emissivity), T.push_back(*s.temperature_K);
+  return test::net_radiation_radiosity([&](int I, int J) { return box_factor(d, I, J); }, eps, T);
 }
 
 TEST(RadiantExchange, BoxWithTwoHotFacesAgainstTheHandSolvedSystem) {
@@ -141,7 +126,7 @@ TEST(RadiantExchange, BoxWithTwoHotFacesAgainstTheHandSolvedSystem) {
   const std::array<SurfaceThermal, 6> t = {at(0.9, 400), at(0.8, 300), at(0.6, 300),
                                            at(0.5, 300), at(0.85, 300), at(0.7, 350)};
   const RadiantExchange r = exchange_of(box_room(d, t, 0.01));
-  const std::array<double, 6> J = hand_solved_radiosity(d, t);
+  const std::vector<double> J = hand_solved_radiosity(d, t);
   const std::vector<SurfaceThermal> boundary(t.begin(), t.end());
   const GreyExchange s = grey_exchange(r.factors, boundary, {});
   const double scale = sigma_T4(400) - sigma_T4(300);

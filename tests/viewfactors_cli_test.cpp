@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "tests/child_process.h"
+#include "tests/net_radiation.h"
 #include "tests/test_geometry.h"
 
 namespace lambert {
@@ -231,24 +232,12 @@ TEST(ViewFactorsCli, SavedFactorsSolveNewTemperatures) {
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.out.find(" ms"), std::string::npos) << r.out;
   const json result = json::parse(read_text(out));
-  const double sigma = 5.670374419e-8;
-  double A[6][7];
   auto f = [](int I, int J) { return I == J ? 0 : I / 2 == J / 2 ? test::howell_c11(1, 1) : test::howell_c14(1, 1); };
-  for (int I = 0; I < 6; ++I) {
-    for (int J = 0; J < 6; ++J) A[I][J] = (I == J) - (1 - eps[I]) * f(I, J);
-    A[I][6] = eps[I] * sigma * std::pow(T[I], 4);
-  }
-  for (int c = 0; c < 6; ++c)  // no pivoting needed: diagonally dominant
-    for (int row = 0; row < 6; ++row) {
-      if (row == c) continue;
-      const double k = A[row][c] / A[c][c];
-      for (int col = c; col < 7; ++col) A[row][col] -= k * A[c][col];
-    }
-  std::array<double, 6> J;
-  for (int I = 0; I < 6; ++I) J[I] = A[I][6] / A[I][I];
+  const std::vector<double> J = test::net_radiation_radiosity(f, std::vector<double>(eps.begin(), eps.end()),
+                                                              std::vector<double>(T.begin(), T.end()));
   const json& surfaces = result["thermal"]["surfaces"];
   EXPECT_EQ(result["thermal"]["level"], "surfaces");
-  const double scale = sigma * (std::pow(400.0, 4) - std::pow(300.0, 4));
+  const double scale = test::kSigma * (std::pow(400.0, 4) - std::pow(300.0, 4));
   for (int I = 0; I < 6; ++I) {
     double H = 0;
     for (int K = 0; K < 6; ++K) H += f(I, K) * J[K];
