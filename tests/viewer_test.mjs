@@ -223,6 +223,8 @@ async function checkProbes(page, result) {
   const shown = mine.filter((l) => l.shown).length;
   check(shown >= grid.nu * grid.nv / 4, `${shown} of them are readable from above without overlapping`);
   await screenshot(page, "probes-top");
+  await page.click("#view-front");
+  await screenshot(page, "front"); // docs/viewer.png
   const info = await page.$eval(`.probe[data-probe="${grid.name}"]`, (e) => ({ ...e.dataset }));
   const levels = JSON.parse(info.levels);
   const min = Math.min(...grid.illuminance_lx), max = Math.max(...grid.illuminance_lx);

@@ -102,12 +102,14 @@ export class ResultView {
     if (group) this.scene.add(group);
   }
 
-  // "front": the scene's bounding sphere seen from −z with +y up (the default of `lambert render`);
-  // "top": the front view tilted up over the scene, looking down, +z up the screen.
+  // "front": the scene's bounding sphere seen from −z with +y up, as `lambert render` sees it, but
+  // from 20° above, so that floors and work planes show; "top": tilted further up over the scene,
+  // looking down, +z up the screen.
   setView(which) {
     const sphere = this.bounds.getBoundingSphere(new THREE.Sphere());
     const distance = sphere.radius / Math.sin(THREE.MathUtils.degToRad(kFovDeg / 2));
-    const direction = which === "top" ? new THREE.Vector3(0, 1, -1e-4).normalize() : new THREE.Vector3(0, 0, -1);
+    const elevation = THREE.MathUtils.degToRad(which === "top" ? 89.99 : 20);
+    const direction = new THREE.Vector3(0, Math.sin(elevation), -Math.cos(elevation));
     this.camera.position.copy(sphere.center).addScaledVector(direction, distance);
     this.camera.near = distance / 100;
     this.camera.far = distance * 100;
