@@ -335,8 +335,16 @@ void FileJobStore::Impl::reload_record(const std::string& id, bool has_scene, bo
     job->cache_key = record.value("cache_key", std::string());
     job->cached = record.value("cached", false);
   } catch (const std::exception& e) {
-    std::cerr << "lambert serve: ignoring unreadable job record " << record_path(id) << ": "
-              << e.what() << "\n";
+    // Reported, not dropped (issue 37: a corrupted record made its job vanish, 404): the job stays,
+    // failed with the reason, until it expires like any other failed job from now on.
+    std::cerr << "lambert serve: unreadable job record " << record_path(id) << ": " << e.what() << "\n";
+    job->state = JobState::Failed;
+    job->error = std::string("the stored record of this job could not be read (") + e.what() + ")";
+    job->created = job->finished = now;
+    if (has_scene) remove_quietly(scene_path(id));
+    if (has_result) remove_quietly(result_path(id));
+    persist_final_locked(*job);
+    jobs.emplace(id, std::move(job));
     return;
   }
   if (has_scene) remove_quietly(scene_path(id));  // crashed between commit and clean-up
@@ -505,8 +513,23 @@ ResultLookup FileJobStore::result(const std::string& id) {
   }
   // Read outside the lock; a concurrent DELETE unlinks the file, which an open reader survives.
   auto text = read_whole_file(file);
-  if (!text) return JobNotFound{};  // removed or expired meanwhile
-  return JobResult{std::make_shared<const std::string>(std::move(*text))};
+  if (text) return JobResult{std::make_shared<const std::string>(std::move(*text))};
+  std::lock_guard lock(s.mutex);
+  const auto it = s.jobs.find(id);
+  if (it == s.jobs.end()) return JobNotFound{};  // deleted or expired meanwhile
+  // The job is there and its result file is not: lost outside the server. Said so, not "done" with
+  // a result that answers 404 (issue 37).
+  Job& job = *it->second;
+  if (job.state == JobState::Done && job.result_on_disk) {
+    std::cerr << "lambert serve: job " << id << ": its result file " << file << " is gone\n";
+    job.state = JobState::Failed;
+    job.error = "the stored result of this job was lost";
+    job.result_on_disk = false;
+    const auto key = s.done_by_key.find(job.cache_key);
+    if (key != s.done_by_key.end() && key->second == id) s.done_by_key.erase(key);  // a cache miss now
+    s.persist_final_locked(job);
+  }
+  return JobFailed{s.status_locked(job)};
 }
 
 std::shared_ptr<const std::string> FileJobStore::cached_result(const std::string& cache_key) {

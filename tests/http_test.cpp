@@ -1,6 +1,8 @@
 // The HTTP service through real HTTP (SPEC §4, docs/API.md), on the fixture of service_fixture.h.
 #include "tests/service_fixture.h"
 
+#include <fstream>
+
 namespace lambert {
 namespace {
 // ---- routes, documents, 404/405 ----------------------------------------------------------------------
@@ -695,6 +697,34 @@ TEST(Http, FinishedJobsExpire) {
     std::this_thread::sleep_for(50ms);
   expect_error(server.client()->Get("/v1/jobs/" + id), 404, "not_found");
   EXPECT_EQ(files_in(dir.path / "jobs"), 0u);
+}
+
+// A damaged data directory is reported, never silently dropped (issue 37: a corrupted job record
+// made its job vanish, 404; a deleted result file left the job "done" with a result answering 404).
+TEST(Http, ACorruptedRecordOrALostResultFailsItsJobWithTheReason) {
+  TempDir dir;
+  ServiceOptions jobs = job_options();
+  jobs.data_dir = dir.path;
+  std::string corrupted, lost;
+  {
+    TestServer server(jobs);
+    corrupted = submit(server, point_scene(30));
+    lost = submit(server, point_scene(40));
+    ASSERT_EQ(wait_final(server, corrupted).value("state", ""), "done");
+    ASSERT_EQ(wait_final(server, lost).value("state", ""), "done");
+  }
+  std::ofstream(dir.path / "jobs" / (corrupted + ".job.json"), std::ios::trunc) << "{\"id\": \"" << corrupted << "\", \"sta";
+  TestServer server(jobs);
+  const json c = job_status(server, corrupted);
+  EXPECT_EQ(c.value("state", ""), "failed") << c;
+  EXPECT_NE(c.value("error", "").find("record of this job could not be read"), std::string::npos) << c;
+  expect_error(server.client()->Get("/v1/jobs/" + corrupted + "/result"), 409, "job_failed");
+  // While the server runs, the other job's result file goes.
+  fs::remove(dir.path / "jobs" / (lost + ".result.json"));
+  expect_error(server.client()->Get("/v1/jobs/" + lost + "/result"), 409, "job_failed");
+  const json l = job_status(server, lost);
+  EXPECT_EQ(l.value("state", ""), "failed") << l;
+  EXPECT_NE(l.value("error", "").find("result of this job was lost"), std::string::npos) << l;
 }
 
 TEST(Http, OneDataDirectoryServesOneServer) {
