@@ -248,6 +248,24 @@ TEST(Lights, WarnPatchFluxEqualsTheContourFormulaOnEveryPatch) {
   }
 }
 
+TEST(Lights, AxisLineThroughAnEdgeBehindTheSource) {
+  // A source whose axis line, continued backwards, crosses the edge two ceiling triangles share: the
+  // section there lies behind the source (ψ near π) and must not wrap to −π. The box's faces, cut
+  // into 4 × 4 cells each, receive the whole 4π I (and 2π I/(m+1) for a cos lobe).
+  std::vector<Triangle> cells;
+  test::for_each_box_face({0, 0, 0}, {4, 4, 3}, [&](const Point3& o, const Vector3& u, const Vector3& v) {
+    for (int i = 0; i < 4; ++i)
+      for (int j = 0; j < 4; ++j)
+        for (const Triangle& t : rectangle(o + u * (i / 4.0) + v * (j / 4.0), u * 0.25, v * 0.25)) cells.push_back(t);
+  });
+  for (const Point3& at : {Point3{2.01, 2.0, 2.5}, Point3{2.0, 2.0, 1.0}}) {
+    const auto iso = make_light_model(point_source(PointLight::Kind::Point, at, 1));
+    const auto lobe = make_light_model(point_source(PointLight::Kind::Goniometric, at, 1, 2));
+    EXPECT_NEAR(sum(triangle_fluxes(*iso, cells)), 4 * kPi, 1e-9) << at.x << " " << at.y;
+    EXPECT_NEAR(sum(triangle_fluxes(*lobe, cells)), 2 * kPi / 3, 1e-9) << at.x << " " << at.y;
+  }
+}
+
 TEST(Lights, IsotropicPointOneMicrometreAboveTheFloor) {
   // P6 at h = 1 µm: patch-mean = I Ω / A with Ω = 4 asin((a/2)² / ((a/2)² + h²)) = 6.283173993471088 sr
   // for the centred unit square (→ 2π as h → 0).

@@ -70,7 +70,10 @@ class SphericalPolygon {
       if (e0 < 0) c0 = c_cross, e0 = 0;
       else c1 = c_cross, e1 = 0;
     }
-    const double a0 = std::atan2(e0, c0), a1 = std::atan2(e1, c1);
+    // Every point kept has x_e ≥ 0; a point on the axis line may carry x_e = −0.0 (or a rounding
+    // residue below 0), whose atan2 behind the origin would be −π instead of π (std::max keeps −0.0).
+    auto on_side = [](double e) { return e > 0 ? e : 0.0; };
+    const double a0 = std::atan2(on_side(e0), c0), a1 = std::atan2(on_side(e1), c1);
     psi1 = std::min(a0, a1);
     psi2 = std::max(a0, a1);
     return true;
