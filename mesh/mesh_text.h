@@ -1,6 +1,8 @@
 // What the mesh readers (obj_reader.cpp, ply_reader.cpp, off_reader.cpp, stl_reader.cpp) share:
 // a line cursor over a text file, strict number parsing, and the checks every reader makes on
-// what it read. Internal to mesh/; the public interface is mesh/mesh_file.h.
+// what it read. The public interface is mesh/mesh_file.h; the photometric file readers
+// (solver/photometry/) use the line cursor and the number parsing too, so that every file Lambert
+// reads parses its numbers the same way.
 #pragma once
 
 #include <cstddef>
