@@ -118,6 +118,8 @@ std::function<std::array<double, 3>(std::size_t, const Point3&, const Vector3&)>
         add(d->direction * -1.0, s->lights[l]->point_factor(p, n, *s->vis), s->lights[l]->spectrum());
       else if (const auto* q = std::get_if<PointLight>(&scene.lights[l]))
         add(normalize(q->position - p), s->lights[l]->point_factor(p, n, *s->vis), s->lights[l]->spectrum());
+      else if (const auto* m = std::get_if<LuminaireLight>(&scene.lights[l]))
+        add(normalize(m->position - p), s->lights[l]->point_factor(p, n, *s->vis), s->lights[l]->spectrum());
     }
     for (std::size_t j : s->emitters) {
       if (j == i) continue;

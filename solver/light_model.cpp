@@ -17,6 +17,7 @@ std::unique_ptr<LightModel> make_light_model(const Light& light, const LightCont
   if (const auto* a = std::get_if<AmbientLight>(&light)) return make_ambient_light(*a);
   if (const auto* d = std::get_if<DirectionalLight>(&light)) return make_directional_light(*d);
   if (const auto* s = std::get_if<SkyLight>(&light)) return make_sky_light(*s, context);
+  if (const auto* l = std::get_if<LuminaireLight>(&light)) return make_luminaire_light(*l);
   const PointLight& p = std::get<PointLight>(light);
   switch (p.kind) {
     case PointLight::Kind::Point: return make_point_light(p);

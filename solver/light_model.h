@@ -4,7 +4,9 @@
 //   - point-like sources (point, goniometric, spot, Warn): S = I_0(λ) [W sr^-1 nm^-1], g in sr m^-2;
 //   - directional and ambient light: S = irradiance [W m^-2 nm^-1], g dimensionless;
 //   - a Phong-lobed emitting patch: S = exitance R(λ) [W m^-2 nm^-1], g dimensionless;
-//   - a sky: S = its zenith radiance L_z(λ) [W m^-2 sr^-1 nm^-1], g in sr.
+//   - a sky: S = its zenith radiance L_z(λ) [W m^-2 sr^-1 nm^-1], g in sr;
+//   - a luminaire from a photometric file: S = the spectral intensity of one candela of the file
+//     [W sr^-1 nm^-1 per cd], g in cd sr m^-2 (the file's candela, cos α / r²).
 // Measures: point_factor is per unit area at a point; receiver_factor is the mean over a receiver's
 // surface at a point (solver/receiver.h: g = ∫ S-normalised radiance × w(ω) dω); patch_factor is the
 // area average over a triangle (the flux onto it per unit S, divided by its area); flux_factor is the flux the source
@@ -117,6 +119,7 @@ std::unique_ptr<LightModel> make_directional_light(const DirectionalLight& light
 std::unique_ptr<LightModel> make_point_light(const PointLight& light);        // point.cpp: Kind::Point
 std::unique_ptr<LightModel> make_goniometric_light(const PointLight& light);  // goniometric.cpp: also Warn
 std::unique_ptr<LightModel> make_spot_light(const PointLight& light);         // spot.cpp
+std::unique_ptr<LightModel> make_luminaire_light(const LuminaireLight& light);  // luminaire.cpp
 // sky.cpp: throws std::invalid_argument without a scene in the context (its light depends on what
 // the scene hides of the sky).
 std::unique_ptr<LightModel> make_sky_light(const SkyLight& light, const LightContext& context);

@@ -203,6 +203,8 @@ void reduce_scene_to_rgb(Scene& scene) {
             reduce_source(light.irradiance_W_m2_nm, pointer);
           } else if constexpr (std::is_same_v<T, SkyLight>) {
             reduce_source(light.zenith_radiance_W_m2_sr_nm, pointer);
+          } else if constexpr (std::is_same_v<T, LuminaireLight>) {
+            reduce_source(light.intensity_W_sr_nm, pointer);
           } else {
             static_assert(std::is_same_v<T, PointLight>, "reduce_scene_to_rgb: a new light type");
             reduce_source(light.intensity_W_sr_nm, pointer);

@@ -4,6 +4,7 @@
 // valid: the codec returns errors instead of a half-filled Scene.
 #pragma once
 
+#include <memory>
 #include <optional>
 #include <string>
 #include <variant>
@@ -113,7 +114,26 @@ struct SkyLight {
   std::vector<double> zenith_radiance_W_m2_sr_nm;  // L_z(λ)
   std::optional<SunPlacement> sun_placement;       // where `sun` came from "sun" (for the result)
 };
-using Light = std::variant<AmbientLight, DirectionalLight, PointLight, SkyLight>;
+// A luminaire from a photometric file (SPEC §1 "luminaire"; solver/lights/luminaire.h): the file's
+// intensity distribution I(ω) [cd] about its photometric centre, turned into the scene by the
+// direction of γ = 0 (nadir) and of the C0 half-plane, and, where the file gives luminous
+// dimensions, an area source whose radiance is I(ω) / A_proj(ω).
+struct LuminairePhotometry;  // solver/photometry/distribution.h
+struct LuminaireLight {
+  std::string name;
+  std::string source;                  // the file as the scene names it ("luminaires/a.ies", "inline IES text")
+  std::shared_ptr<const LuminairePhotometry> photometry;
+  Point3 position;                     // metres: the photometric centre
+  Vector3 nadir{0, 0, -1};             // unit: the direction of γ = 0
+  Vector3 c0{1, 0, 0};                 // unit, perpendicular to nadir: the C0 half-plane
+  double maintenance_factor = 1;
+  std::optional<double> luminous_flux_lm;  // the output asked for (a rescale of the file), before the maintenance factor
+  double tilt_deg = 0;                 // TILT=INCLUDE: the luminaire's tilt from its measured position
+  double tilt_factor = 1;              // the file's tilt multiplier at tilt_deg (1 without tilt data)
+  double candela_scale = 1;            // × the file's candela: rescale × tilt factor × maintenance factor
+  std::vector<double> intensity_W_sr_nm;  // spectral intensity per candela of the file, candela_scale included
+};
+using Light = std::variant<AmbientLight, DirectionalLight, PointLight, SkyLight, LuminaireLight>;
 
 // EN 17037's recommendation for daylight provision through a daylight factor (its Annex A): a target
 // illuminance E_T over 50 % of the reference plane and a minimum target E_TM over 95 %, here as the

@@ -114,6 +114,7 @@ PreparedScene::PreparedScene(const Scene& scene, const SolveControl& control) : 
       for (Point3& v : s.mesh.vertices) v = v - shift_;
     for (Light& light : moved.lights)
       if (auto* point = std::get_if<PointLight>(&light)) point->position = point->position - shift_;
+      else if (auto* luminaire = std::get_if<LuminaireLight>(&light)) luminaire->position = luminaire->position - shift_;
     for (Probe& probe : moved.probes)
       for (Point3& p : probe.points) p = p - shift_;
   }
