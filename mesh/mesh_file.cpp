@@ -57,9 +57,10 @@ MeshFileResult failure(const std::string& name, const std::string& why) {
   return r;
 }
 
-// The whole file, if it is a regular file within the size limit. O_NONBLOCK: opening a FIFO must
-// not wait for a writer; fstat on the opened descriptor then refuses anything but a regular file,
-// so what is checked is what is read.
+}  // namespace
+
+// O_NONBLOCK: opening a FIFO must not wait for a writer; fstat on the opened descriptor then refuses
+// anything but a regular file, so what is checked is what is read.
 std::optional<std::string> read_regular_file(const std::string& path, std::uint64_t max_bytes, std::string& bytes) {
   const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_NOCTTY | O_CLOEXEC);
   if (fd < 0) return errno == ENOENT ? std::string("file does not exist") : "cannot open it (" + std::string(std::strerror(errno)) + ")";
@@ -85,8 +86,6 @@ std::optional<std::string> read_regular_file(const std::string& path, std::uint6
   bytes.resize(got);
   return std::nullopt;
 }
-
-}  // namespace
 
 MeshFileResult triangulate_polygons(const PolygonMesh& polygons, const std::string& name) {
   MeshFileResult result;

@@ -66,6 +66,11 @@ struct MeshFileResult {
 // inside it where it is not. `name` prefixes the errors ("NAME: line N: face cannot be ...").
 MeshFileResult triangulate_polygons(const PolygonMesh& polygons, const std::string& name);
 
+// The whole of a regular file (never a FIFO or a device) of at most max_bytes, into `bytes`; the
+// reason it cannot be read otherwise ("not a regular file", "the file has N bytes; the limit is M").
+// Every file a scene names is read this way.
+std::optional<std::string> read_regular_file(const std::string& path, std::uint64_t max_bytes, std::string& bytes);
+
 // Opens `path` (which must be a regular file of at most limits.max_file_bytes), parses it in the
 // format its extension names and triangulates its polygons.
 MeshFileResult read_mesh_file(const std::string& path, const MeshReadLimits& limits = {});

@@ -9,6 +9,7 @@
 
 #include "server/evaluation_codec.h"
 #include "server/viewfactors/radiant_json.h"
+#include "solver/lights/luminaire.h"
 #include "solver/rgb_model.h"
 
 namespace lambert {
@@ -29,6 +30,44 @@ json array_json(const std::array<double, K>& v) {
   json a = json::array();
   for (double x : v) a.push_back(x);
   return a;
+}
+
+json optional_json(const std::optional<double>& v) { return v ? json(*v) : json(nullptr); }
+
+// Per luminaire (SPEC §2 "luminaires"): what the file declares against the exact integral of the
+// interpolated distribution, and what the scene makes it emit.
+json luminaires_json(const Scene& scene) {
+  json out = json::array();
+  for (std::size_t l = 0; l < scene.lights.size(); ++l) {
+    const auto* m = std::get_if<LuminaireLight>(&scene.lights[l]);
+    if (!m) continue;
+    const PhotometricData& f = m->photometry->file;
+    const PlacedLuminaire placed(*m);
+    const double integral = m->photometry->distribution.flux();
+    json j = {{"light", l < scene.light_pointers.size() ? scene.light_pointers[l] : "/lights/" + std::to_string(l)},
+              {"name", m->name},
+              {"file", m->source},
+              {"format", f.format == PhotometricFormat::kIes ? "IES " + f.version : f.version},
+              {"photometry_type", photometry_type_name(f.type)},
+              {"absolute_photometry", f.absolute_photometry},
+              {"declared_lamp_flux_lm", optional_json(f.declared_lamp_flux_lm)},
+              {"declared_output_lm", optional_json(f.declared_output_lm)},
+              {"integral_lm", integral},
+              {"light_output_ratio", f.declared_lamp_flux_lm ? json(integral / *f.declared_lamp_flux_lm) : json(nullptr)},
+              {"tilt_factor", m->tilt_factor},
+              {"maintenance_factor", m->maintenance_factor},
+              {"emitted_lm", placed.flux_lm()},
+              {"input_watts", f.input_watts},
+              {"luminous_opening",
+               {{"shape", luminous_shape_name(f.opening.shape)},
+                {"description", f.opening.description},
+                {"length_m", f.opening.length_m},
+                {"width_m", f.opening.width_m},
+                {"height_m", f.opening.height_m}}},
+              {"near_field_distance_m", placed.near_field_distance_m()}};
+    out.push_back(std::move(j));
+  }
+  return out;
 }
 
 // One element of "patches". Patches are written one at a time (write_result): with the whole result
@@ -227,6 +266,7 @@ void write_result(std::ostream& os, const Scene& scene, const Solution& sol, con
   out["probes"] = std::move(probes);
   write_evaluations(out, scene, sol, report);
   if (report.daylight) out["daylight"] = daylight_json(scene, *report.daylight);
+  if (json luminaires = luminaires_json(scene); !luminaires.empty()) out["luminaires"] = std::move(luminaires);
 
   if (!sol.contributions.empty()) {
     json sources = json::array();
@@ -361,6 +401,10 @@ ResultSizeBound result_size_bound(const Scene& scene) {
     if (std::holds_alternative<SkyLight>(light)) b.fixed_bytes += kElement + kNumber * (6 + 2 * W * spectral);
     if (const auto* d = std::get_if<DirectionalLight>(&light); d && d->sun)
       b.fixed_bytes += kElement + static_cast<double>(d->sun->time.size()) + kNumber * 10;
+    // "luminaires": per luminaire its names, the opening's description and 16 numbers.
+    if (const auto* m = std::get_if<LuminaireLight>(&light))
+      b.fixed_bytes += kElement + static_cast<double>(m->name.size() + m->source.size() +
+                                                      m->photometry->file.opening.description.size()) + kNumber * 16;
   }
   b.fixed_bytes += sources * kElement;
   // The evaluations (evaluation_codec.h): a task summary's line per grid it lists, and per glare

@@ -11,6 +11,7 @@
 #include <cstddef>
 #include <initializer_list>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -127,6 +128,10 @@ class Decoder {
   void set_grid(WavelengthGrid grid);
   std::map<std::string, int>& material_index() { return material_index_; }
   void add_light(Light light, const std::string& p);
+  // Luminaire names (name -> pointer of its first use), and the photometric files read so far (by
+  // where they came from), so that a file sixty luminaires share is read and reported once.
+  std::map<std::string, std::string>& luminaire_names() { return luminaire_names_; }
+  std::map<std::string, std::shared_ptr<const LuminairePhotometry>>& photometry_files() { return photometry_files_; }
 
   // The Scene when nothing was reported (reduced to RGB in rgb mode), else the errors.
   DecodeResult finish();
@@ -139,6 +144,8 @@ class Decoder {
   Scene scene_;
   std::optional<WavelengthGrid> grid_;
   std::map<std::string, int> material_index_;  // material name -> index into scene_.materials
+  std::map<std::string, std::string> luminaire_names_;
+  std::map<std::string, std::shared_ptr<const LuminairePhotometry>> photometry_files_;
   std::vector<DecodeError> errors_;
   std::size_t dropped_errors_ = 0, dropped_warnings_ = 0;
 };

@@ -17,7 +17,7 @@ constexpr std::size_t kMaxListedPerMesh = 20;  // degenerate triangles listed pe
 
 // Policy::UnderRoot. Messages here never show server paths: the scene may come from an HTTP client.
 std::optional<fs::path> resolve_under_root(Decoder& d, const fs::path& path, const std::string& rel,
-                                           const std::string& p) {
+                                           const std::string& p, std::string_view what) {
   if (path.is_absolute() || path.has_root_name() || path.has_root_directory()) {
     d.error(p, "the file path must be relative to the mesh root, got " + quote_text(rel));
     return std::nullopt;
@@ -37,19 +37,21 @@ std::optional<fs::path> resolve_under_root(Decoder& d, const fs::path& path, con
   // this check and the read is outside this threat model: the root is the operator's.)
   const fs::path real = fs::canonical(root / path, ec);
   if (ec || !fs::is_regular_file(real, ec)) {
-    d.error(p, "mesh file " + quote_text(rel) + " not found under the mesh root");
+    d.error(p, std::string(what) + " " + quote_text(rel) + " not found under the mesh root");
     return std::nullopt;
   }
   auto [root_end, real_it] = std::mismatch(root.begin(), root.end(), real.begin(), real.end());
   if (root_end != root.end() || real_it == real.end()) {
-    d.error(p, "mesh file " + quote_text(rel) +
-                   " resolves (through a symbolic link) outside the mesh root");
+    d.error(p, std::string(what) + " " + quote_text(rel) + " resolves (through a symbolic link) outside the mesh root");
     return std::nullopt;
   }
   return real;
 }
 
-std::optional<fs::path> resolve_file(Decoder& d, const std::string& rel, const std::string& p) {
+}  // namespace
+
+std::optional<std::filesystem::path> resolve_scene_file(Decoder& d, const std::string& rel, const std::string& p,
+                                                        std::string_view what, std::string_view refused) {
   if (rel.empty()) {
     d.error(p, "the file path must not be empty");
     return std::nullopt;
@@ -61,28 +63,26 @@ std::optional<fs::path> resolve_file(Decoder& d, const std::string& rel, const s
   const fs::path path(rel);
   switch (d.files().policy) {
     case FileAccess::Policy::Deny:
-      d.error(p, "file surfaces are not allowed here (start the server with --mesh-root)");
+      d.error(p, std::string(refused) + " are not allowed here (start the server with --mesh-root)");
       return std::nullopt;
     case FileAccess::Policy::Anywhere: {
       const fs::path full = path.is_absolute() ? path : d.files().base_dir / path;
       std::error_code ec;
       if (!fs::is_regular_file(full, ec)) {
-        d.error(p, "mesh file " + quote_text(rel) + " not found (looked for " + full.string() + ")");
+        d.error(p, std::string(what) + " " + quote_text(rel) + " not found (looked for " + full.string() + ")");
         return std::nullopt;
       }
       return full;
     }
-    case FileAccess::Policy::UnderRoot: return resolve_under_root(d, path, rel, p);
+    case FileAccess::Policy::UnderRoot: return resolve_under_root(d, path, rel, p, what);
   }
   return std::nullopt;
 }
 
-}  // namespace
-
 std::optional<TriangleMesh> decode_file_mesh(Decoder& d, const json& j, const std::string& p) {
   auto rel = d.string(j, p);
   if (!rel) return std::nullopt;
-  auto path = resolve_file(d, *rel, p);
+  auto path = resolve_scene_file(d, *rel, p, "mesh file", "file surfaces");
   if (!path) return std::nullopt;
   MeshFileResult file = read_mesh_file(path->string());
   if (!file.ok()) {

@@ -21,6 +21,7 @@ constexpr std::array kLightTypes = {
     LightType{"spot", decode_point_like_light},
     LightType{"warn", decode_point_like_light},
     LightType{"sky", decode_sky_light},
+    LightType{"luminaire", decode_luminaire_light},
 };
 
 void decode_light(Decoder& d, const json& j, std::size_t i) {

@@ -48,6 +48,9 @@ struct SunAt {
 };
 std::optional<SunAt> decode_sun(Decoder& d, const json& js, const std::string& ps, const Horizon* horizon);
 
+// A luminaire from an IES LM-63 or EULUMDAT file (luminaire.cpp).
+void decode_luminaire_light(Decoder& d, const json& j, const std::string& p, std::string_view type);
+
 // The "irradiance" spectrum of a light that delivers the same irradiance everywhere, scaled by its
 // illuminance_lx or irradiance_W_m2 if given, else by `fallback` if given (source names the light
 // for messages). nullopt after an error, or when the caller's own parameters failed
