@@ -6,14 +6,13 @@
 // that error is below 1 %, the degree-5 triangle rule far from the opening relative to both sizes,
 // and that rule refined where the estimate changes (solver/cubature.h) nearer. Over a receiving patch each
 // point q is a point source of intensity L f dA_q, whose flux into the patch is a polar integral over
-// the patch's directions: exact in θ where L f is I_file / A (a flat two-sided opening, the common
-// case: rectangles, disks), else the cone integral with L f as its weight.
+// the patch's directions, exact in θ where L f is I_file / A (a flat two-sided opening, the common
+// case: rectangles, disks); a solid opening's patch average is the degree-5 rule of point values.
 // Shadows: kernel-weighted rays from the opening's stratified samples (solver/visible_fraction.h).
 #include <cmath>
 
 #include "solver/cubature.h"
 #include "solver/lights/luminaire_near_field.h"
-#include "solver/lights/point_like.h"
 #include "solver/visible_fraction.h"
 
 namespace lambert {
@@ -122,18 +121,22 @@ double opening_point_factor(const PlacedLuminaire& l, const Point3& p, const Vec
 double opening_patch_factor(const PlacedLuminaire& l, const Triangle& t, const Visibility& vis) {
   const Vector3 nt = t.normal();
   const auto& faces = l.opening().faces();
-  const bool flat = faces.size() == 1 && faces[0].two_sided;  // L f = I_file / A in every direction
-  const double flat_area = l.opening().area_m2();
-  const PhotometricDistribution& d = l.distribution();
-  const ConeLobe uniform{l.to_scene(d.polar()), 0, kPi};
-  // Flux into t from the luminous point q, per unit of its area.
-  auto flux_from = [&](int face, double s, double tt, const Point3& q) {
-    if (dot(q - t.v[0], nt) <= 0) return 0.0;  // q lies behind the patch
-    if (flat) return distribution_through(l, q, t) / flat_area;
-    return cone_integral(q, uniform, t.v, [&](const Vector3& w) { return emission(l, face, s, tt, w); }, 1e-6);
-  };
   const double nearest = distance(t.centroid(), l.centre()) - t.bounding_radius();
-  const double average = over_opening(l, rule_for(l, nearest, t.bounding_radius()), flux_from) / t.area();
+  double average = 0;
+  if (faces.size() == 1 && faces[0].two_sided) {
+    // L f = I_file / A in every direction: each luminous point's flux into t is exact in angle.
+    const double flat_area = l.opening().area_m2();
+    auto flux_from = [&](int, double, double, const Point3& q) {
+      return dot(q - t.v[0], nt) > 0 ? distribution_through(l, q, t) / flat_area : 0.0;  // q in front of t
+    };
+    average = over_opening(l, rule_for(l, nearest, t.bounding_radius()), flux_from) / t.area();
+  } else {
+    // Solid openings (boxes, cylinders, spheres): L f depends on the face and direction, so the angle
+    // integral has no closed form; the patch average is the degree-5 rule over t of the area form's
+    // irradiance, each point's opening cubature chosen by its own distance.
+    average = apply_rule(triangle_rule_degree5(), t, [&](const Point3& p) { return opening_irradiance(l, p, nt); }) /
+              t.area();
+  }
   if (!(average > 0)) return 0;
   const auto& samples = l.opening().samples();
   const LuminousSample* current = nullptr;
