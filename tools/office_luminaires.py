@@ -29,8 +29,8 @@ for i, (x, y) in enumerate([(2 + 3.6 * k, 2.6) for k in range(5)] + [(2 + 3.6 * 
     surfaces.append({"name": "desk %d" % (i + 1), "material": "desk", "mesh": {"vertices": v, "triangles": t}})
 
 lights = []
-def luminaire(name, path, x, y):
-    return {"type": "luminaire", "name": name, "photometry": {"file": path}, "position": [x, y, 2.99],
+def luminaire(name, path, x, y, z=2.99):
+    return {"type": "luminaire", "name": name, "photometry": {"file": path}, "position": [x, y, z],
             "nadir": [0, 0, -1], "c0": [1, 0, 0], "maintenance_factor": 0.8, "spectrum": {"blackbody_K": 3000}}
 # 10 x 5 BEGA 50899 downlights over the desks and aisles, 2 Cooper Shaper ceiling luminaires by the
 # entrance (west wall), 8 BEGA 50975 downlights along the east wall.
@@ -38,7 +38,8 @@ for i in range(10):
     for j in range(5):
         lights.append(luminaire("D%d-%d" % (i + 1, j + 1), "luminaires/bega-50899-downlight.ies", 1 + 2 * i, 1 + 2 * j))
 for j, y in enumerate([3, 7]):
-    lights.append(luminaire("S%d" % (j + 1), "luminaires/cooper-shaper-210d.ies", 0.6, y))
+    # Its luminous cylinder (0.44 m high) is centred on the photometric centre: hung 1 cm below the ceiling.
+    lights.append(luminaire("S%d" % (j + 1), "luminaires/cooper-shaper-210d.ies", 0.6, y, 3 - 0.22 - 0.01))
 for j in range(8):
     lights.append(luminaire("W%d" % (j + 1), "luminaires/bega-50975-downlight.ldt", 19.7, 0.625 + 1.25 * j))
 
