@@ -1,8 +1,9 @@
 // Luminaires in scene JSON (SPEC §1 "luminaire"), through the decoder, the solve and the result: a
 // luminaire given by a file, by inline IES or EULUMDAT text; the probe's lux under it against
 // E = MF · I(γ) cos α / d² at the file's own nodes, whatever the spectrum; the result's "luminaires"
-// reporting the file's declared lumens beside the exact integral of its interpolant; and every
-// broken luminaire refused at its JSON pointer, with the file and line where the file is at fault.
+// reporting the file's declared lumens beside the exact integral of its interpolant; glare seeing
+// the opening's luminance and solid angle; and every broken luminaire refused at its JSON pointer,
+// with the file and line where the file is at fault.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -144,6 +145,32 @@ TEST(LuminaireScene, ProbeLuxThroughTheSolveIsTheClosedForm) {
   EXPECT_NEAR(l["integral_lm"].get<double>(), integral, 1e-9 * integral);
   EXPECT_NEAR(l["emitted_lm"].get<double>(), 0.8 * integral, 1e-9 * integral);
   EXPECT_EQ(l["photometry_type"], "C");
+}
+
+TEST(LuminaireScene, GlareSeesTheOpeningThroughTheSolve) {
+  // A Lambertian 0.6 × 0.3 m opening (I = 2000 cos γ, LM-63 length 0.6 along C0, width 0.3) at
+  // z = 2 seen by an observer at (−2, 0, 1.2) looking along +x: UGR's source is the opening with
+  // L = I0 / A = 2000 / 0.18 cd/m² and the solid angle of the rectangle 1.7 ≤ x ≤ 2.3, |y| ≤ 0.15 in
+  // the plane h = 0.8 above the eye (the corner formula atan(x y / (h √(x² + y² + h²))) by
+  // superposition).
+  IesSpec spec;
+  spec.vertical = steps(0, 90, 0.25);
+  spec.horizontal = {0};
+  spec.candela = [](double, double v) { return 2000 * std::cos(v * test::kDeg); };
+  spec.width = 0.3, spec.length = 0.6;
+  json doc = json::parse(scene(json::array({luminaire_with({{"ies", test::ies_text(spec)}})})));
+  doc["glare"] = json::array({{{"name", "desk"}, {"position", {-2, 0, 1.2}}, {"view", {1, 0, 0}}, {"up", {0, 0, 1}}}});
+  const Scene s = decode_ok(doc.dump());
+  const Solution sol = solve(s);
+  const json result = json::parse(encode_result(s, sol, make_report(s, sol)));
+  ASSERT_EQ(result["glare"].size(), 1u);
+  const json& sources = result["glare"][0]["sources"];
+  ASSERT_EQ(sources.size(), 1u);
+  EXPECT_EQ(sources[0]["source"], "/lights/0");
+  EXPECT_NEAR(sources[0]["luminance_cd_m2"].get<double>(), 2000 / 0.18, 1e-4 * 2000 / 0.18);
+  auto corner = [](double x, double y) { return std::atan(x * y / (0.8 * std::sqrt(x * x + y * y + 0.64))); };
+  const double omega = corner(2.3, 0.15) - corner(1.7, 0.15) - corner(2.3, -0.15) + corner(1.7, -0.15);
+  EXPECT_NEAR(sources[0]["solid_angle_sr"].get<double>(), omega, 1e-9 * omega);
 }
 
 TEST(LuminaireScene, TheBundledFilesReportTheirDeclaredLumens) {
