@@ -121,8 +121,8 @@ struct Solution {
 //   Solve: the linear systems and the outputs
 //   Probes: the probe points
 enum class SolveStage { Meshing, Visibility, Links, Solve, Probes };
-const char* stage_name(SolveStage stage);
-const char* method_name(SolverMethod method);  // "auto", "dense", "hierarchical" (the scene's words)  // "meshing", "visibility", "links", "solve", "probes"
+const char* stage_name(SolveStage stage);      // "meshing", "visibility", "links", "solve", "probes"
+const char* method_name(SolverMethod method);  // "auto", "dense", "hierarchical" (the scene's words)
 
 // Progress in [0, 1] and cooperative cancellation (checked between work items).
 struct SolveControl {

@@ -204,11 +204,12 @@ struct MeshingOptions {
 };
 
 // Dense: every patch pair (N² factors, exact up to ray noise; memory 8 N² bytes).
-// Hierarchical: links between elements and clusters refined to `accuracy` (solver/hierarchical.h).
-// It is experimental: its surface means are within a few per cent of the dense solver's, not yet
-// within 0.1 %, so Auto uses it only where the dense matrix would not fit (above kDenseAutoPatches).
+// Hierarchical: links between elements and clusters refined to `accuracy` (solver/hierarchical/),
+// cost about linear in N. Auto picks by cost: on the benchmark room (docs/BENCHMARKS.md, "Which
+// method auto picks") the dense method costs about 1e-7 N² s and the hierarchical one 2.5e-4 N s,
+// equal near 2 500 patches; up to twice that the dense method, exact, is taken at a small premium.
 enum class SolverMethod { Auto, Dense, Hierarchical };
-inline constexpr std::size_t kDenseAutoPatches = 12000;
+inline constexpr std::size_t kDenseAutoPatches = 5000;
 
 struct SolverOptions {
   double tolerance = 1e-4;          // relative residual of the radiosity system

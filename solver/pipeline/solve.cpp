@@ -77,17 +77,13 @@ Solution solve_method(const Scene& scene, const SolveControl& control) {
     for (const Surface& s : scene.surfaces)
       for (std::size_t t = 0; t < s.mesh.triangles.size(); ++t)
         patches += std::max(1.0, std::ceil(s.mesh.triangle(t).area() / max_area));
-    method = patches <= kDenseAutoPatches || scene.output.per_source ? SolverMethod::Dense : SolverMethod::Hierarchical;
+    method = patches <= kDenseAutoPatches ? SolverMethod::Dense : SolverMethod::Hierarchical;
   }
   if (method == SolverMethod::Hierarchical) {
-    if (scene.output.per_source) throw SolveError("output.per_source is not available with solver.method \"hierarchical\"");
     Solution sol = solve_hierarchical(scene, control);
     if (scene.meshing.adaptive)
       sol.warnings.push_back("meshing.adaptive applies to the dense solver only; the hierarchical method "
                              "refines its own links");
-    sol.warnings.push_back("solved with the experimental hierarchical method: expect errors of a few per cent "
-                           "(closed rows were corrected by up to " +
-                           std::to_string(sol.stats.max_closure_error) + "); see stats");
     return sol;
   }
   return scene.meshing.adaptive ? solve_dense_adaptive(scene, control) : solve_dense(scene, control, nullptr);
