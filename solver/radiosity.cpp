@@ -3,6 +3,7 @@
 #include "solver/radiosity.h"
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 
 namespace lambert {
@@ -35,6 +36,15 @@ double scene_area(const Scene& scene) {
 }
 
 double default_max_patch_area(const Scene& scene) { return scene_area(scene) / 1200; }
+
+double estimated_patch_count(const Scene& scene) {
+  const double max_area = scene.meshing.max_patch_area_m2.value_or(default_max_patch_area(scene));
+  double patches = 0;
+  for (const Surface& s : scene.surfaces)
+    for (std::size_t t = 0; t < s.mesh.triangles.size(); ++t)
+      patches += std::max(1.0, std::ceil(s.mesh.triangle(t).area() / max_area));
+  return patches;
+}
 
 std::vector<Triangle> input_triangles(const Scene& scene) {
   std::vector<Triangle> out;

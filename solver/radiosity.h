@@ -168,6 +168,9 @@ Solution solve(const Scene& scene, const SolveControl& control = {});
 // The default patch size when the scene does not set meshing.max_patch_area: total area / 1200,
 // which keeps the Cornell box near 1500 patches.
 double default_max_patch_area(const Scene& scene);
+// The patch count meshing will give, estimated from the triangles' areas and the patch size (what
+// solver.method "auto" decides by, before meshing).
+double estimated_patch_count(const Scene& scene);
 
 // The scene's input triangles (metres), every surface's in order: the occluders of exact visibility
 // and of the occluder planes, and what Patch::input_triangle counts.

@@ -19,12 +19,8 @@ double seconds_since(Clock::time_point t0) { return std::chrono::duration<double
 // the patch matrix is read off them), the hierarchical one beyond.
 SolverMethod geometric_method(const Scene& scene) {
   if (scene.solver.method != SolverMethod::Auto) return scene.solver.method;
-  const double max_area = scene.meshing.max_patch_area_m2.value_or(default_max_patch_area(scene));
-  double patches = 0;
-  for (const Surface& s : scene.surfaces)
-    for (std::size_t t = 0; t < s.mesh.triangles.size(); ++t)
-      patches += std::max(1.0, std::ceil(s.mesh.triangle(t).area() / max_area));
-  return patches <= static_cast<double>(kMaxDensePatches) ? SolverMethod::Dense : SolverMethod::Hierarchical;
+  return estimated_patch_count(scene) <= static_cast<double>(kMaxDensePatches) ? SolverMethod::Dense
+                                                                                : SolverMethod::Hierarchical;
 }
 
 std::unique_ptr<TransportOperator> discretise(const Scene& prepared, const SolveControl& control, SolveStats& stats) {

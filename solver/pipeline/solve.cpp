@@ -69,16 +69,10 @@ Solution solve_dense_adaptive(const Scene& scene, const SolveControl& control) {
 }
 
 Solution solve_method(const Scene& scene, const SolveControl& control) {
-  // Method selection (scene.h SolverMethod): Auto estimates the meshed patch count from the areas.
+  // Method selection (scene.h SolverMethod): Auto by the estimated patch count.
   SolverMethod method = scene.solver.method;
-  if (method == SolverMethod::Auto) {
-    const double max_area = scene.meshing.max_patch_area_m2.value_or(default_max_patch_area(scene));
-    double patches = 0;
-    for (const Surface& s : scene.surfaces)
-      for (std::size_t t = 0; t < s.mesh.triangles.size(); ++t)
-        patches += std::max(1.0, std::ceil(s.mesh.triangle(t).area() / max_area));
-    method = patches <= kDenseAutoPatches ? SolverMethod::Dense : SolverMethod::Hierarchical;
-  }
+  if (method == SolverMethod::Auto)
+    method = estimated_patch_count(scene) <= kDenseAutoPatches ? SolverMethod::Dense : SolverMethod::Hierarchical;
   if (method == SolverMethod::Hierarchical) {
     Solution sol = solve_hierarchical(scene, control);
     if (scene.meshing.adaptive)
