@@ -179,28 +179,8 @@ void probe_daylight_json(const ProbeDaylight& d, bool grid, json& j) {
   if (!d.vertical_sky_component_pct.empty()) j["vertical_sky_component_pct"] = values(d.vertical_sky_component_pct);
 }
 
-}  // namespace
-
-void write_result(std::ostream& os, const Scene& scene, const Solution& sol, const Report& report) {
-  const std::size_t W = sol.wavelengths();
-  const bool spectral = scene.output.spectral;
-  json out;
-  out["lambert"] = 1;
-  out["name"] = scene.name;
-  // In rgb mode the three samples are channels, not wavelengths (solver/rgb_model.h): the result
-  // names them instead of listing their nominal wavelengths, and every spectral array ("radiosity",
-  // "irradiance", ...) holds the R, G, B channel values in that order (W m^-2 rather than per nm).
-  if (scene.mode == SpectrumMode::Rgb) {
-    out["mode"] = "rgb";
-    out["channels"] = json::array();
-    for (const char* channel : kRgbChannelNames) out["channels"].push_back(channel);
-  } else {
-    out["mode"] = "spectral";
-    out["wavelengths_nm"] = sol.grid.nm;
-  }
-
-  out["patches"] = nullptr;  // written in place by write_result, one patch at a time
-
+// The result's "surfaces": each surface's summary (report.h).
+json surfaces_json(const Report& report) {
   json surfaces = json::array();
   for (const SurfaceSummary& s : report.surfaces) {
     json j;
@@ -216,8 +196,13 @@ void write_result(std::ostream& os, const Scene& scene, const Solution& sol, con
     j["irradiance_mean"] = s.irradiance_mean;
     surfaces.push_back(std::move(j));
   }
-  out["surfaces"] = std::move(surfaces);
+  return surfaces;
+}
 
+// The result's "probes": each probe's values, a grid's per point with its summary.
+json probes_json(const Scene& scene, const Solution& sol, const Report& report) {
+  const std::size_t W = sol.wavelengths();
+  const bool spectral = scene.output.spectral;
   json probes = json::array();
   for (std::size_t k = 0; k < scene.probes.size(); ++k) {
     const Probe& probe = scene.probes[k];
@@ -263,49 +248,46 @@ void write_result(std::ostream& os, const Scene& scene, const Solution& sol, con
     if (report.daylight && report.daylight->probes.at(k)) probe_daylight_json(*report.daylight->probes[k], probe.is_grid, j);
     probes.push_back(std::move(j));
   }
-  out["probes"] = std::move(probes);
-  write_evaluations(out, scene, sol, report);
-  if (report.daylight) out["daylight"] = daylight_json(scene, *report.daylight);
-  if (json luminaires = luminaires_json(scene); !luminaires.empty()) out["luminaires"] = std::move(luminaires);
+  return probes;
+}
 
-  if (!sol.contributions.empty()) {
-    json sources = json::array();
-    for (std::size_t c = 0; c < sol.contributions.size(); ++c) {
-      const SourceContribution& contribution = sol.contributions[c];
-      const SourceReport& sr = report.sources.at(c);
-      json j;
-      j["source"] = contribution.pointer;
-      j["name"] = contribution.name;
-      j["patches"] = {{"illuminance_lx", sr.patch_illuminance_lx}, {"luminance_cd_m2", sr.patch_luminance_cd_m2}};
-      if (spectral) {
-        json radiosity = json::array(), irradiance = json::array();
-        for (std::size_t i = 0; i < sol.patches.size(); ++i) {
-          radiosity.push_back(spectrum_json(&contribution.radiosity[i * W], W));
-          irradiance.push_back(spectrum_json(&contribution.irradiance[i * W], W));
-        }
-        j["patches"]["radiosity"] = std::move(radiosity);
-        j["patches"]["irradiance"] = std::move(irradiance);
+// The result's "sources" (output.per_source): each source's share of the patches and probes.
+json sources_json(const Scene& scene, const Solution& sol, const Report& report) {
+  const std::size_t W = sol.wavelengths();
+  const bool spectral = scene.output.spectral;
+  json sources = json::array();
+  for (std::size_t c = 0; c < sol.contributions.size(); ++c) {
+    const SourceContribution& contribution = sol.contributions[c];
+    const SourceReport& sr = report.sources.at(c);
+    json j;
+    j["source"] = contribution.pointer;
+    j["name"] = contribution.name;
+    j["patches"] = {{"illuminance_lx", sr.patch_illuminance_lx}, {"luminance_cd_m2", sr.patch_luminance_cd_m2}};
+    if (spectral) {
+      json radiosity = json::array(), irradiance = json::array();
+      for (std::size_t i = 0; i < sol.patches.size(); ++i) {
+        radiosity.push_back(spectrum_json(&contribution.radiosity[i * W], W));
+        irradiance.push_back(spectrum_json(&contribution.irradiance[i * W], W));
       }
-      json probes = json::array();
-      for (std::size_t k = 0; k < scene.probes.size(); ++k) {
-        json probe = {{"name", scene.probes[k].name}};
-        if (scene.probes[k].is_grid) probe["illuminance_lx"] = sr.probe_illuminance_lx.at(k);
-        else probe["illuminance_lx"] = sr.probe_illuminance_lx.at(k).at(0);
-        probes.push_back(std::move(probe));
-      }
-      j["probes"] = std::move(probes);
-      sources.push_back(std::move(j));
+      j["patches"]["radiosity"] = std::move(radiosity);
+      j["patches"]["irradiance"] = std::move(irradiance);
     }
-    out["sources"] = std::move(sources);
+    json probes = json::array();
+    for (std::size_t k = 0; k < scene.probes.size(); ++k) {
+      json probe = {{"name", scene.probes[k].name}};
+      if (scene.probes[k].is_grid) probe["illuminance_lx"] = sr.probe_illuminance_lx.at(k);
+      else probe["illuminance_lx"] = sr.probe_illuminance_lx.at(k).at(0);
+      probes.push_back(std::move(probe));
+    }
+    j["probes"] = std::move(probes);
+    sources.push_back(std::move(j));
   }
+  return sources;
+}
 
-  if (sol.radiant) {
-    if (scene.output.view_factors) out["view_factors"] = view_factors_json(*sol.radiant, scene.unit_m);
-    if (sol.radiant->thermal) out["thermal"] = thermal_json(scene, *sol.radiant);
-  }
-
-  const SolveStats& st = sol.stats;
-  out["stats"] = {
+// The result's "stats": the common ones, then the method's own under its name.
+json stats_json(const SolveStats& st) {
+  json out = {
       {"patches", st.patches},
       {"links", st.links},
       {"rays", st.rays},
@@ -344,8 +326,43 @@ void write_result(std::ostream& os, const Scene& scene, const Solution& sol, con
         {"solve", st.time_solve_s},
         {"probes", st.time_probes_s},
         {"total", st.time_total_s}}}};
-  out["stats"]["method"] = method_name(st.method);
-  out["stats"][method_name(st.method)] = method_stats(st);
+  out["method"] = method_name(st.method);
+  out[method_name(st.method)] = method_stats(st);
+  return out;
+}
+
+}  // namespace
+
+void write_result(std::ostream& os, const Scene& scene, const Solution& sol, const Report& report) {
+  json out;
+  out["lambert"] = 1;
+  out["name"] = scene.name;
+  // In rgb mode the three samples are channels, not wavelengths (solver/rgb_model.h): the result
+  // names them instead of listing their nominal wavelengths, and every spectral array ("radiosity",
+  // "irradiance", ...) holds the R, G, B channel values in that order (W m^-2 rather than per nm).
+  if (scene.mode == SpectrumMode::Rgb) {
+    out["mode"] = "rgb";
+    out["channels"] = json::array();
+    for (const char* channel : kRgbChannelNames) out["channels"].push_back(channel);
+  } else {
+    out["mode"] = "spectral";
+    out["wavelengths_nm"] = sol.grid.nm;
+  }
+
+  out["patches"] = nullptr;  // written in place by write_result, one patch at a time
+  out["surfaces"] = surfaces_json(report);
+  out["probes"] = probes_json(scene, sol, report);
+  write_evaluations(out, scene, sol, report);
+  if (report.daylight) out["daylight"] = daylight_json(scene, *report.daylight);
+  if (json luminaires = luminaires_json(scene); !luminaires.empty()) out["luminaires"] = std::move(luminaires);
+
+  if (!sol.contributions.empty()) out["sources"] = sources_json(scene, sol, report);
+  if (sol.radiant) {
+    if (scene.output.view_factors) out["view_factors"] = view_factors_json(*sol.radiant, scene.unit_m);
+    if (sol.radiant->thermal) out["thermal"] = thermal_json(scene, *sol.radiant);
+  }
+
+  out["stats"] = stats_json(sol.stats);
   out["warnings"] = sol.warnings;
 
   // out.dump(), with "patches" (in its sorted place among the keys) written patch by patch.
