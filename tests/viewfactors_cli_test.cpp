@@ -254,7 +254,21 @@ TEST(ViewFactorsCli, SavedFactorsSolveNewTemperatures) {
   EXPECT_NE(wrong.err.find("/geometry_hash"), std::string::npos) << wrong.err;
 }
 
-TEST(ViewFactorsCli, BadInputIsNamedAndTheHierarchicalMethodRefused) {
+// The hierarchical method serves as well: its links summed to surfaces, within 1e-4 of Howell.
+TEST(ViewFactorsCli, View3dCubeByTheHierarchicalMethod) {
+  TempDir dir("lambert_viewfactors");
+  const json j = factors_json(kData / "cube.vs3", dir, {"--method", "hierarchical"});
+  ASSERT_EQ(j["surfaces"].size(), 6u);
+  for (std::size_t I = 0; I < 6; ++I) {
+    EXPECT_NEAR(j["row_sums"][I].get<double>(), 1.0, 1e-5);
+    for (std::size_t J = 0; J < 6; ++J) {
+      const double expected = I == J ? 0 : I / 2 == J / 2 ? test::howell_c11(1, 1) : test::howell_c14(1, 1);
+      EXPECT_NEAR(F(j, I, J), expected, 1e-4) << I << " -> " << J;
+    }
+  }
+}
+
+TEST(ViewFactorsCli, BadInputIsNamed) {
   TempDir dir("lambert_viewfactors");
   const fs::path bad = dir.path() / "bad.vs3", out = dir.path() / "out.json";
   std::ofstream(bad) << "T broken\nF 3\nV 1 0 0 0\nV 2 1 0 nan\n";
@@ -266,9 +280,6 @@ TEST(ViewFactorsCli, BadInputIsNamedAndTheHierarchicalMethodRefused) {
   r = run({"viewfactors", bad.string(), "-o", out.string()});
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.err.find(":7: surface 2 is a mask (M)"), std::string::npos) << r.err;
-  r = run({"viewfactors", (kData / "cube.vs3").string(), "-o", out.string(), "--method", "hierarchical"});
-  EXPECT_EQ(r.status, 1);
-  EXPECT_NE(r.err.find("(solver.method \"hierarchical\") does not yet build its transport operator"), std::string::npos) << r.err;
   r = run({"viewfactors", (kData / "cube.vs3").string(), "-o", (dir.path() / "f.csv").string(), "--patches"});
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.err.find("--patches"), std::string::npos) << r.err;

@@ -48,6 +48,7 @@ class HierarchicalOperator final : public TransportOperator {
   const std::vector<Hemisphere>& hemispheres() const override { return hemisphere_; }
   bool next_round(const SpectralSystems& systems, const SolveControl& control) override;
   void close_rows(const SpectralSystems& systems, const SolveControl& control) override;
+  void build_geometric(const SolveControl& control) override;
 
   void apply(const std::vector<const double*>& V, const std::vector<double*>& FV) const override;
   void apply_transpose(const double* w, double* out) const override;
@@ -58,6 +59,8 @@ class HierarchicalOperator final : public TransportOperator {
   // The loop's rooms (rounds.cpp).
   void prepare_rounds(const SpectralSystems& systems);
   bool refine(const SpectralSystems& systems, bool first, std::vector<double>& leaf_B, const SolveControl& control);
+  bool refine_for(const OracleRadiosity& oracle, bool first, const SolveControl& control);
+  void close(const SolveControl& control);  // the balance toward this round's target (closure.h)
   void refine_first(const Refiner& refiner, const SolveControl& control);
   bool recheck(const Refiner& refiner);
   void store_links(bool first);

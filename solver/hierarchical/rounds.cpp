@@ -109,8 +109,14 @@ bool HierarchicalOperator::next_round(const SpectralSystems& systems, const Solv
 // the links changed; `leaf_B` is the oracle's radiosity per leaf.
 bool HierarchicalOperator::refine(const SpectralSystems& systems, bool first, std::vector<double>& leaf_B,
                                   const SolveControl& control) {
+  OracleRadiosity oracle = oracle_radiosity(h_, systems, hemisphere_, rounds_.shoots, first);
+  const bool changed = refine_for(oracle, first, control);
+  leaf_B = std::move(oracle.leaf_B);
+  return changed;
+}
+
+bool HierarchicalOperator::refine_for(const OracleRadiosity& oracle, bool first, const SolveControl& control) {
   Rounds& r = rounds_;
-  OracleRadiosity oracle = oracle_radiosity(h_, systems, hemisphere_, r.shoots, first);
   const OracleValues values = oracle_values(h_, oracle.leaf_B);
   const double accuracy = scene_.solver.accuracy;
   const double epsilon = accuracy * oracle.power / r.total_area / kPowerShare;
@@ -124,8 +130,36 @@ bool HierarchicalOperator::refine(const SpectralSystems& systems, bool first, st
   control.check_cancel();
   for (const LinkBatch& batch : found_) own_link_rays_ += batch.rays;
   if (changed) store_links(first);
-  leaf_B = std::move(oracle.leaf_B);
   return changed;
+}
+
+// For the geometry alone (view factors, radiant exchange): every leaf that takes part sends unit
+// radiosity, so one round refines every link to the same share of the scene's mean exitance; then
+// the final gather, and the final balance with every such leaf's root held to what it sends (the
+// columns of an emitter: energy is conserved, so a closed enclosure's net fluxes sum to zero). The
+// balance aims as for ρ = 0.9, where thermal exchange has its low emissivities.
+void HierarchicalOperator::build_geometric(const SolveControl& control) {
+  classify_hemispheres(control);
+  const std::size_t N = patches_.size();
+  Rounds& r = rounds_;
+  r.started = r.done = true;
+  OracleRadiosity oracle;
+  oracle.leaf_B.assign(N, 0.0);
+  r.emits.assign(N, 0), r.shoots.assign(N, 0);
+  for (std::size_t i = 0; i < N; ++i) {
+    if (hemisphere_[i] == Hemisphere::Enclosed) continue;
+    oracle.leaf_B[i] = 1, r.emits[i] = r.shoots[i] = 1;
+    r.total_area += patches_[i].area_m2;
+  }
+  oracle.power = r.total_area;
+  if (N == 0 || !(r.total_area > 0)) return;
+  r.final_target = r.oracle_target = balance_target(kFinalBalance, 0.9);
+  refine_for(oracle, true, control);
+  ++own_.refine_rounds;
+  gather_at_leaves(control);
+  r.sends = oracle.leaf_B;
+  r.final_balance = true;
+  close(control);
 }
 
 void HierarchicalOperator::refine_first(const Refiner& refiner, const SolveControl& control) {
@@ -217,7 +251,9 @@ void HierarchicalOperator::gather_at_leaves(const SolveControl& control) {
   }
 }
 
-void HierarchicalOperator::close_rows(const SpectralSystems&, const SolveControl& control) {
+void HierarchicalOperator::close_rows(const SpectralSystems&, const SolveControl& control) { close(control); }
+
+void HierarchicalOperator::close(const SolveControl& control) {
   Rounds& r = rounds_;
   const Balanced balanced = balance(h_, r.balance, hemisphere_, r.sends, r.emits, patches_,
                                     r.final_balance ? r.final_target : r.oracle_target, r.final_balance, control);

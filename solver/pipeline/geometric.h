@@ -25,9 +25,7 @@ struct GeometricOperator {
 };
 
 // The method: the scene's, or for "auto" the dense one up to its patch limit (kMaxDensePatches), the
-// hierarchical one beyond. Throws SolveError where the method's operator does not build for the
-// geometry alone (TransportOperator::build_geometric: the hierarchical one, until it overrides it) or
-// a patch limit is exceeded.
+// hierarchical one beyond. Throws SolveError where a patch limit is exceeded.
 GeometricOperator build_geometric_operator(const Scene& scene, const SolveControl& control);
 
 }  // namespace lambert

@@ -29,12 +29,6 @@ BatchOperator TransportOperator::among(std::span<const int> unknowns) const {
   };
 }
 
-void TransportOperator::build_geometric(const SolveControl&) {
-  throw SolveError("this solver method (solver.method \"hierarchical\") does not yet build its transport operator "
-                   "for the geometry alone, which view factors and radiant exchange need: use solver.method "
-                   "\"dense\"");
-}
-
 void TransportOperator::visit_factors(const FactorVisitor& visit) const {
   constexpr std::size_t kBatch = 64;
   const std::size_t N = size();

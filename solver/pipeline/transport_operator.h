@@ -66,9 +66,8 @@ class TransportOperator {
   // F as if every patch sent unit radiosity: the hemispheres classified, F built (a refining method
   // refines as it would for uniform radiosity on every patch) and the closed rows balanced, without
   // any spectral system. Afterwards hemispheres(), apply(), among(), apply_transpose(),
-  // point_gather() and report() serve as they do after a solve's rounds. A method that cannot build
-  // so throws SolveError (the default).
-  virtual void build_geometric(const SolveControl& control);
+  // point_gather() and report() serve as they do after a solve's rounds.
+  virtual void build_geometric(const SolveControl& control) = 0;
 
   // ---- applying it ----
   // FV[k] = F V[k] for K vectors over all patches.
