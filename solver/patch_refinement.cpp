@@ -130,7 +130,10 @@ void mark_near_probes(const std::vector<Patch>& patches, const std::vector<Probe
             const auto it = cells.find({cx + dx, cy + dy, cz + dz});
             if (it == cells.end()) continue;
             for (std::size_t k : it->second) {
-              const auto& [p, n] = points[k];
+              // Named references, not a structured binding: clang before 16 cannot capture a binding in
+              // the lambda below (P1091), and the fuzz build (docs/FUZZING.md) uses Debian's clang 14.
+              const Point3& p = points[k].first;
+              const Vector3& n = points[k].second;
               if (length_squared(p - c) < reach2[i] && dot(p - c, a.normal) > 0 &&
                   std::any_of(a.triangle.v.begin(), a.triangle.v.end(), [&](const Point3& v) { return dot(v - p, n) > 0; })) {
                 marked[i] = 1;

@@ -7,8 +7,9 @@
 #include <cstdint>
 #include <limits>
 #include <map>
-#include <ranges>
+#include <string_view>
 #include <utility>
+#include <vector>
 
 #include "mesh/mesh_ops.h"
 #include "server/codec/mesh_files.h"
@@ -311,8 +312,18 @@ int material_of(Decoder& d, const json& j, const std::string& p) {
   const std::map<std::string, int>& index = d.material_index();
   auto it = index.find(*s);
   if (it != index.end()) return it->second;
-  d.error(p + "/material",
-          "unknown material " + quote_text(*s) + (d.listing() ? suggestion(*s, std::views::keys(index)) : ""));
+  std::string hint;
+  if (d.listing()) {
+    // The names as a vector, not std::views::keys: clang 14 (the fuzz build, docs/FUZZING.md) cannot
+    // compile libstdc++ 12's views over a std::map. suggestion() looks at no more than these.
+    std::vector<std::string_view> names;
+    for (const auto& entry : index) {
+      if (names.size() == kMaxSuggestionCandidates) break;
+      names.push_back(entry.first);
+    }
+    hint = suggestion(*s, names);
+  }
+  d.error(p + "/material", "unknown material " + quote_text(*s) + hint);
   return 0;
 }
 
