@@ -72,9 +72,11 @@ void decode_observer(Decoder& d, const json& j, std::size_t i, std::map<std::str
   const json* jp = d.required(j, p, "position");
   const json* jv = d.required(j, p, "view");
   const json* ju = d.required(j, p, "up");
-  const auto position = jp ? d.point(*jp, p + "/position") : std::nullopt;
-  const auto view = jv ? d.direction(*jv, p + "/view") : std::nullopt;
-  const auto up = ju ? d.direction(*ju, p + "/up") : std::nullopt;
+  std::optional<Point3> position;
+  std::optional<Vector3> view, up;
+  if (jp) position = d.point(*jp, p + "/position");
+  if (jv) view = d.direction(*jv, p + "/view");
+  if (ju) up = d.direction(*ju, p + "/up");
   if (!position || !view || !up) return;
   // The camera convention: up need not be perpendicular to the view; its part across it is the
   // vertical of the observer's field (the Guth index's vertical plane).
