@@ -12,6 +12,7 @@
 # Each file's SHA-256 is written into the generated source: the assembler reads the files, which the
 # compiler (and so ccache) never sees, so the hash is what makes a changed file rebuild the object.
 cmake_minimum_required(VERSION 3.25)
+include(${CMAKE_CURRENT_LIST_DIR}/write_if_changed.cmake)
 
 if(NOT DEFINED OUT OR NOT DEFINED PATHS OR NOT DEFINED FILES)
   message(FATAL_ERROR "embed_assets.cmake: pass -DOUT=<file.cpp> -DPATHS=<p1|p2> -DFILES=<f1|f2>")
@@ -72,11 +73,4 @@ ${table}  };
 }  // namespace lambert
 ")
 
-# Rewrite only on change, so that the object is not rebuilt needlessly.
-if(EXISTS "${OUT}")
-  file(READ "${OUT}" old)
-  if(old STREQUAL content)
-    return()
-  endif()
-endif()
-file(WRITE "${OUT}" "${content}")
+write_if_changed("${OUT}" "${content}")

@@ -10,6 +10,7 @@
 # A file that is not valid JSON (when its name ends in .json) stops the build with CMake's parse
 # error, so a broken contract document never ships.
 cmake_minimum_required(VERSION 3.25)
+include(${CMAKE_CURRENT_LIST_DIR}/write_if_changed.cmake)
 
 if(NOT DEFINED OUT OR NOT DEFINED NAMES OR NOT DEFINED FILES)
   message(FATAL_ERROR "embed_files.cmake: pass -DOUT=<file.inc> -DNAMES=<n1;n2> -DFILES=<f1;f2>")
@@ -49,11 +50,4 @@ foreach(k RANGE ${last})
                         "static constexpr unsigned char ${name}[] = {\n  ${bytes}0x00};\n")
 endforeach()
 
-# Rewrite only on change, so dependent objects are not rebuilt needlessly.
-if(EXISTS "${OUT}")
-  file(READ "${OUT}" old)
-  if(old STREQUAL content)
-    return()
-  endif()
-endif()
-file(WRITE "${OUT}" "${content}")
+write_if_changed("${OUT}" "${content}")
