@@ -247,10 +247,11 @@ bool PgJobStore::finish(const Claim& claim, const JobOutcome& outcome) {
   Impl& s = *impl_;
   auto c = s.pool.lease();
   std::string error = outcome.error;
-  if (outcome.result && outcome.result->size() > kPgMaxResultBytes) {
+  if (outcome.result && outcome.result->size() > s.options.max_result_bytes) {
     error = "the result has " + std::to_string(outcome.result->size()) +
-            " bytes, more than the PostgreSQL store holds (" + std::to_string(kPgMaxResultBytes >> 20) +
-            " MiB, bytea's limit); ask for less output (output.spectral: false, fewer probes)";
+            " bytes, more than the PostgreSQL store holds (max_result_bytes = " +
+            std::to_string(s.options.max_result_bytes) +
+            ", bytea's limit); ask for less output (output.spectral: false, fewer probes)";
   } else if (outcome.result) {
     try {
       return s.finish_done(*c, claim, *outcome.result);

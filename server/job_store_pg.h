@@ -33,15 +33,17 @@
 
 namespace lambert {
 
+// The largest result the store accepts: bytea's 1 GiB, less room for the row.
+constexpr std::size_t kPgMaxResultBytes = (std::size_t{1} << 30) - (std::size_t{1} << 20);
+
 struct PgJobStoreOptions {
   std::string conninfo;  // a libpq connection URI or string: postgresql://user@host:5432/db
   std::chrono::duration<double> result_ttl = std::chrono::hours(24 * 7);  // <= 0: keep forever
   std::chrono::duration<double> lease = std::chrono::seconds(30);  // a dead instance's jobs wait this long
   std::size_t max_connections = 8;  // per instance
+  std::size_t max_result_bytes = kPgMaxResultBytes;  // a larger result fails its job, naming this limit
 };
 
-// The largest result the store accepts: bytea's 1 GiB, less room for the row.
-constexpr std::size_t kPgMaxResultBytes = (std::size_t{1} << 30) - (std::size_t{1} << 20);
 // The schema this build writes; older ones are migrated on start.
 constexpr int kPgSchemaVersion = 1;
 

@@ -191,6 +191,32 @@ TEST(PgStore, FinishedJobsExpireWithTheirResults) {
   EXPECT_EQ(sql.exec("SELECT count(*) FROM lambert_results").integer(0, 0), 0);
 }
 
+TEST(PgStore, AResultOverTheStoresLimitFailsItsJobWithTheLimitNamed) {
+  // The same check as bytea's 1 GiB (kPgMaxResultBytes), at a limit of 64 bytes: a result of
+  // exactly 64 bytes is stored, one of 65 fails its job with the limit named and stores nothing.
+  LAMBERT_FRESH_DATABASE(uri);
+  PgJobStoreOptions o = pg_options(uri);
+  o.max_result_bytes = 64;
+  PgJobStore a(o);
+  const std::string fits = submitted_id(a.submit("{}", "", 10));
+  const std::string over = submitted_id(a.submit("{}", "", 10));
+  const auto first = a.claim("a");
+  ASSERT_TRUE(first && first->id == fits);
+  ASSERT_TRUE(a.finish(*first, done_with(std::string(64, 'x'))));
+  EXPECT_EQ(result_text(a, fits), std::string(64, 'x'));
+  const auto second = a.claim("a");
+  ASSERT_TRUE(second && second->id == over);
+  ASSERT_TRUE(a.finish(*second, done_with(std::string(65, 'x'))));
+  const auto status = a.status(over);
+  ASSERT_TRUE(status);
+  EXPECT_EQ(status->state, JobState::Failed);
+  EXPECT_NE(status->error.find("65 bytes"), std::string::npos) << status->error;
+  EXPECT_NE(status->error.find("max_result_bytes = 64"), std::string::npos) << status->error;
+  EXPECT_TRUE(std::holds_alternative<JobFailed>(a.result(over)));
+  pg::Connection sql(uri);
+  EXPECT_EQ(sql.exec("SELECT count(*) FROM lambert_results").integer(0, 0), 1);
+}
+
 // ---- two in-process services on one database, over HTTP ---------------------------------------------
 
 TEST(PgHttp, AnyInstanceAnswersForAnyJobWithItsOwnScenesAnswer) {
