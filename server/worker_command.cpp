@@ -124,7 +124,7 @@ int run_solve_worker(const std::vector<std::string>& args) {
   ::prctl(PR_SET_PDEATHSIG, SIGKILL);
   if (::getppid() != *parent) return 1;
   if (memory_limit > 0) {
-#if defined(__SANITIZE_ADDRESS__)
+#if defined(LAMBERT_ADDRESS_SANITIZER)
     // AddressSanitizer reserves terabytes of shadow address space: a limit would stop every solve.
     std::cerr << "lambert solve-worker: --memory-limit is not applied in a sanitizer build\n";
 #else

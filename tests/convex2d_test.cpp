@@ -115,7 +115,7 @@ TEST(Convex2d, UnionOfSquaresSharingEdgesAndCorners) {
 
 // CGAL's exact Booleans, the reference here, run some 20 times slower under AddressSanitizer (the
 // CI's second build): there the first 20 trials, which cover 1 to 20 cutters and the near-edge ones.
-#if defined(__SANITIZE_ADDRESS__)
+#if defined(LAMBERT_ADDRESS_SANITIZER)
 constexpr int kCgalTrials = 20;
 #else
 constexpr int kCgalTrials = 60;

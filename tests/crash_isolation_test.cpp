@@ -93,7 +93,7 @@ json dense_scene(int patches) {
   return scene;
 }
 TEST(CrashIsolationMemory, AScenePastTheMemoryLimitFailsWithTheReason) {
-#if defined(__SANITIZE_ADDRESS__)
+#if defined(LAMBERT_ADDRESS_SANITIZER)
   GTEST_SKIP() << "the sanitizer's shadow memory does not fit in an address-space limit";
 #endif
   ServiceOptions jobs = job_options();
