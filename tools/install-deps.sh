@@ -3,14 +3,15 @@
 # (apt-get; sudo when not root), and the npm packages into tools/node_modules, exactly as pinned by
 # tools/package-lock.json: three.js (compiled into the binary for the browser viewer), the contract
 # and export validators, and playwright-core, which drives Debian's chromium in tests/viewer_test.mjs
-# (it downloads no browser).
+# (it downloads no browser). clang 14 with its sanitizer and libFuzzer runtimes (libclang-rt-14-dev)
+# and llvm-symbolizer (llvm) build and run .ci/run's instrumented build and fuzz targets.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 packages=(build-essential cmake ninja-build pkg-config
           libcgal-dev libopenmesh-dev libembree-dev libcpp-httplib-dev nlohmann-json3-dev
           libcli11-dev libcairo2-dev fonts-dejavu-core libpng-dev libgtest-dev libbenchmark-dev curl
           libpq-dev postgresql python3-prometheus-client
-          chromium)
+          chromium clang libclang-rt-14-dev llvm)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
