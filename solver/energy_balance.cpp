@@ -6,7 +6,7 @@ void account_energy(const WavelengthGrid& grid, const std::vector<std::unique_pt
                     const std::vector<Patch>& patches, const std::vector<double>& rho, const std::vector<double>& M,
                     const std::vector<double>& E_direct, const std::vector<double>& E_known_flux,
                     const std::vector<double>& radiosity, const std::vector<double>& irradiance,
-                    const std::vector<double>& leak, SolveStats& stats) {
+                    const std::vector<double>& leak, SolveStats& stats, const std::vector<double>& tau) {
   const std::size_t W = grid.size();
   const auto& wt = grid.weight_nm;
   double emitted = 0, absorbed = 0, escaped = 0;
@@ -25,7 +25,7 @@ void account_energy(const WavelengthGrid& grid, const std::vector<std::unique_pt
       const std::size_t k = i * W + w;
       // Directional and ambient light count as emitted where they land: their flux has no total.
       emitted += wt[w] * A * (M[k] + E_direct[k] - E_known_flux[k]);
-      absorbed += wt[w] * A * (1 - rho[k]) * irradiance[k];
+      absorbed += wt[w] * A * (1 - rho[k] - (tau.empty() ? 0.0 : tau[k])) * irradiance[k];
       escaped += wt[w] * A * (radiosity[k] * leak[i] - E_known_flux[k]);
     }
   }

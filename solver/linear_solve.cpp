@@ -145,8 +145,10 @@ void solve_batch(const SystemOperator& apply_batch, std::size_t n, std::vector<R
     // |ρ|: in rgb mode (solver/rgb_model.h) channel reflectances are signed and may exceed 1. For
     // |ρ| ≥ 1 there is no a-priori bound; ask for a residual 1e6 below the tolerance, which GMRES
     // reaches in double precision unless the system is singular (ρ = 1 in a closed scene).
+    // A pane's face gives out ρ + τ of what it receives (PaneTransfer).
     double rho_max = 0;
-    for (double r : sys->rho) rho_max = std::max(rho_max, std::abs(r));
+    for (std::size_t i = 0; i < sys->rho.size(); ++i)
+      rho_max = std::max(rho_max, std::abs(sys->rho[i]) + (sys->tau.empty() ? 0.0 : std::abs(sys->tau[i])));
     const double kappa = rho_max < 1 ? (1 + rho_max) / (1 - rho_max) : 1e6;
     s.target = tolerance / kappa;
     if (s.b_norm == 0) {
@@ -387,14 +389,25 @@ void solve_radiosity_systems(const std::vector<double>& F, std::size_t n, std::v
 }
 
 void solve_radiosity_systems(std::size_t n, const BatchOperator& apply_F, std::vector<RadiositySystem>& systems,
-                             double tolerance, int max_iterations, const std::function<bool()>& cancelled) {
+                             double tolerance, int max_iterations, const std::function<bool()>& cancelled,
+                             const PaneTransfer* transfer) {
+  const bool panes = transfer && !transfer->empty();
   solve_all(
       [&](const std::vector<RadiositySystem*>& batch, const std::vector<const double*>& V,
           const std::vector<double*>& Y) {
-        apply_F(V, Y);  // Y = F V, then Y = V − ρ ⊙ Y in place
+        apply_F(V, Y);  // Y = F V, then Y = V − ρ ⊙ Y − τ ⊙ P Y in place
+        std::vector<std::vector<double>> PY(panes ? batch.size() : 0);
+        for (std::size_t k = 0; k < PY.size(); ++k) {
+          PY[k].assign(n, 0.0);
+          transfer->apply(Y[k], PY[k].data());
+        }
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024), [&](const auto& range) {
-          for (std::size_t k = 0; k < batch.size(); ++k)
-            for (std::size_t i = range.begin(); i != range.end(); ++i) Y[k][i] = V[k][i] - batch[k]->rho[i] * Y[k][i];
+          for (std::size_t k = 0; k < batch.size(); ++k) {
+            const RadiositySystem& sys = *batch[k];
+            for (std::size_t i = range.begin(); i != range.end(); ++i) Y[k][i] = V[k][i] - sys.rho[i] * Y[k][i];
+            if (panes && !sys.tau.empty())
+              for (std::size_t i = range.begin(); i != range.end(); ++i) Y[k][i] -= sys.tau[i] * PY[k][i];
+          }
         });
       },
       n, systems, tolerance, max_iterations, cancelled);

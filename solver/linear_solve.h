@@ -48,6 +48,7 @@ RowScaling symmetric_row_scaling(const std::vector<double>& F, std::size_t n, co
 
 struct RadiositySystem {
   std::vector<double> rho;   // ρ_i of the unknowns (size n)
+  std::vector<double> tau;   // τ_i of the unknowns (size n) where some face of a pane transmits; else empty
   std::vector<double> b;     // right-hand side (size n)
   std::vector<double> x;     // in: starting guess (size n); out: the solution
   int iterations = 0;        // out
@@ -72,7 +73,30 @@ void multiply_dense(const std::vector<double>& F, std::size_t n, const std::vect
 // systems are (I − diag(ρ_k) F) B_k = b_k as above, with the same stopping rule.
 using BatchOperator =
     std::function<void(const std::vector<const double*>& V, const std::vector<double*>& FV)>;
+
+// What the faces of diffusely transmitting panes (solver/pipeline/panes.h) gather of the other face:
+// row r's face i = row[r] passes on τ_i Σ_j P_ij H_j, where P_ij (entries [start[r], start[r+1]) of
+// col and weight) is the share of face i's area that lies on face j of the other side. With it the
+// systems are (I − diag(ρ_k) F − diag(τ_k) P F) B_k = b_k: a face's radiosity is ρ H of its own
+// irradiance plus τ P H of its twin's.
+struct PaneTransfer {
+  std::vector<int> row;
+  std::vector<std::size_t> start{0};
+  std::vector<int> col;
+  std::vector<double> weight;
+  bool empty() const { return row.empty(); }
+  // out[row[r]] = Σ_s weight_s in[col_s] for every row r (other entries of `out` untouched).
+  void apply(const double* in, double* out) const {
+    for (std::size_t r = 0; r < row.size(); ++r) {
+      double sum = 0;
+      for (std::size_t e = start[r]; e < start[r + 1]; ++e) sum += weight[e] * in[col[e]];
+      out[row[r]] = sum;
+    }
+  }
+};
+
 void solve_radiosity_systems(std::size_t n, const BatchOperator& apply_F, std::vector<RadiositySystem>& systems,
-                             double tolerance, int max_iterations, const std::function<bool()>& cancelled);
+                             double tolerance, int max_iterations, const std::function<bool()>& cancelled,
+                             const PaneTransfer* transfer = nullptr);
 
 }  // namespace lambert

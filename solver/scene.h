@@ -29,10 +29,17 @@ struct SpecularLobe {
   std::vector<double> reflectance;  // ρ_s(λ) per grid wavelength (1 when not given)
 };
 
+// How a pane of zero thickness passes the light it does not reflect or absorb (SPEC §5 "Glazing",
+// solver/pipeline/panes.h). Diffuse: each face re-emits, as a Lambertian emitter, τ(λ) times the
+// irradiance of the other face (opal glass); rays do not cross it.
+enum class Transmission { kNone, kDiffuse };
+
 struct Material {
   std::string name;
   std::vector<double> reflectance;  // β(λ) per grid wavelength, each in [0, 1]
   std::optional<SpecularLobe> specular;
+  Transmission transmission = Transmission::kNone;
+  std::vector<double> transmittance;  // τ(λ) at normal incidence per grid wavelength, β + τ ≤ 1; empty: opaque
 };
 
 // Emission of a surface: exitance R(λ) [W m^-2 nm^-1] leaving the front side, distributed as
@@ -67,6 +74,10 @@ struct Surface {
   // triangle of another surface (the two faces of a sheet of zero thickness). A ray meets either
   // face there, so meeting one from behind is not a light leak. Empty: none.
   std::vector<char> two_sided;
+  // Set by solve(), not by the decoder: a surface whose material transmits is a pane of zero
+  // thickness, and its back face is added to its mesh: triangles [pane_triangles, 2 pane_triangles)
+  // are the first pane_triangles reversed, in order (solver/pipeline/panes.h). 0: not a pane.
+  std::size_t pane_triangles = 0;
 };
 
 // Where a sun placed by place and time stands (solver/lights/solar_position.h: NOAA's algorithm), as

@@ -37,6 +37,19 @@ inline json scene_with(json surfaces, json lights, json probes, const std::strin
           {"solver", {{"method", method}}}};
 }
 
+// A room [0,4]×[0,4]×[0,3] of `material` with an unglazed roof opening [1.5,2.5]² in its ceiling.
+inline json room_with_roof_opening(const std::string& material) {
+  return json::array({rectangle("floor", material, {0, 0, 0}, {4, 0, 0}, {0, 4, 0}),
+                      rectangle("ceiling south", material, {0, 0, 3}, {0, 1.5, 0}, {4, 0, 0}),
+                      rectangle("ceiling north", material, {0, 2.5, 3}, {0, 1.5, 0}, {4, 0, 0}),
+                      rectangle("ceiling west", material, {0, 1.5, 3}, {0, 1, 0}, {1.5, 0, 0}),
+                      rectangle("ceiling east", material, {2.5, 1.5, 3}, {0, 1, 0}, {1.5, 0, 0}),
+                      rectangle("south", material, {0, 0, 0}, {0, 0, 3}, {4, 0, 0}),
+                      rectangle("north", material, {0, 4, 0}, {4, 0, 0}, {0, 0, 3}),
+                      rectangle("west", material, {0, 0, 0}, {0, 4, 0}, {0, 0, 3}),
+                      rectangle("east", material, {4, 0, 0}, {0, 0, 3}, {0, 4, 0})});
+}
+
 inline json solve_json(const json& scene) {
   DecodeResult decoded = decode_scene(scene.dump());
   if (!decoded.ok()) throw std::runtime_error(format_errors(decoded.errors));

@@ -25,19 +25,6 @@ using nlohmann::json;
 using test::kDeg;
 using namespace test::daylight;
 
-// A room [0,4]×[0,4]×[0,3] of `material` with an unglazed roof opening [1.5,2.5]² in its ceiling.
-json room_with_roof_opening(const std::string& material) {
-  return json::array({rectangle("floor", material, {0, 0, 0}, {4, 0, 0}, {0, 4, 0}),
-                      rectangle("ceiling south", material, {0, 0, 3}, {0, 1.5, 0}, {4, 0, 0}),
-                      rectangle("ceiling north", material, {0, 2.5, 3}, {0, 1.5, 0}, {4, 0, 0}),
-                      rectangle("ceiling west", material, {0, 1.5, 3}, {0, 1, 0}, {1.5, 0, 0}),
-                      rectangle("ceiling east", material, {2.5, 1.5, 3}, {0, 1, 0}, {1.5, 0, 0}),
-                      rectangle("south", material, {0, 0, 0}, {0, 0, 3}, {4, 0, 0}),
-                      rectangle("north", material, {0, 4, 0}, {4, 0, 0}, {0, 0, 3}),
-                      rectangle("west", material, {0, 0, 0}, {0, 4, 0}, {0, 0, 3}),
-                      rectangle("east", material, {4, 0, 0}, {0, 0, 3}, {0, 4, 0})});
-}
-
 // ---- the unobstructed sky ---------------------------------------------------------------------
 
 TEST(SkyThroughTheSolve, OvercastAndUniformSkiesOnAnOpenPlate) {

@@ -226,7 +226,7 @@ TEST_P(Superposition, PerSourceSolutionsAddUpToTheJointSolution) {
   auto build = [](double point_scale) {
     test::SceneBuilder b({450, 550, 650});
     Scene& scene = b.scene();
-    scene.materials.push_back({"red", {0.1, 0.3, 0.8}, std::nullopt});
+    scene.materials.push_back({"red", {0.1, 0.3, 0.8}, std::nullopt, Transmission::kNone, {}});
     const int red = 0;
     const int white = b.material("white", 0.7);
     b.surface("room", white, test::box({0, 0, 0}, {3, 2, 2.5}, true));

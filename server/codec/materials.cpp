@@ -1,4 +1,5 @@
-// "materials" (SPEC §1): name -> diffuse reflectance spectrum and an optional Phong lobe.
+// "materials" (SPEC §1): name -> diffuse reflectance spectrum, an optional Phong lobe and, for glazing,
+// a transmittance and how the pane transmits.
 #include <utility>
 
 #include "server/codec/sections.h"
@@ -21,6 +22,43 @@ std::optional<SpecularLobe> specular_lobe(Decoder& d, const json& j, const std::
   return lobe;
 }
 
+// "transmittance" with "transmission" (SPEC §5 "Glazing"): τ(λ) at normal incidence, and what is
+// neither reflected nor transmitted is absorbed, so β + τ ≤ 1 at every wavelength.
+void decode_transmission(Decoder& d, const json& m, const std::string& p, Material& material) {
+  const json* t = d.member(m, "transmittance");
+  const json* kind = d.member(m, "transmission");
+  if (!t && !kind) return;
+  if (!t) {
+    d.error(p + "/transmission", "needs \"transmittance\" (the pane's normal-incidence spectrum)");
+    return;
+  }
+  if (!kind) {
+    d.error(p, "\"transmittance\" needs \"transmission\": \"specular\" (clear glass) or \"diffuse\" (opal glass)");
+    return;
+  }
+  if (*kind == "diffuse") material.transmission = Transmission::kDiffuse;
+  else if (*kind == "specular") {
+    // Clear glass passes the sources' rays, attenuated by τ(λ) g(θ) (the angular factor of a pane):
+    // not in this version, whose panes re-emit what crosses them.
+    d.error(p + "/transmission", "\"specular\" (clear glass) is not supported yet; \"diffuse\" (opal glass, "
+                                 "Lambertian re-emission of what crosses the pane) is");
+    return;
+  } else {
+    d.error(p + "/transmission", "expected \"specular\" or \"diffuse\", got " + kind->dump());
+    return;
+  }
+  auto tau = spectrum(d, *t, p + "/transmittance", SpectrumRole::Reflectance);
+  if (!tau) return;
+  const WavelengthGrid* grid = d.grid();
+  for (std::size_t k = 0; grid && k < tau->size() && k < material.reflectance.size(); ++k)
+    if (material.reflectance[k] + (*tau)[k] > 1 + 1e-12) {
+      d.error(p + "/transmittance", "reflectance + transmittance is " + num(material.reflectance[k] + (*tau)[k]) +
+                                        " at " + num(grid->nm[k]) + " nm: a pane cannot give out more than it receives");
+      return;
+    }
+  material.transmittance = std::move(*tau);
+}
+
 }  // namespace
 
 void decode_materials(Decoder& d, const json& doc) {
@@ -41,7 +79,7 @@ void decode_materials(Decoder& d, const json& doc) {
     Material material;
     material.name = name;
     if (name.empty()) d.error(p, "a material name must not be empty");
-    if (!d.object(m, p, {"reflectance", "specular"})) {
+    if (!d.object(m, p, {"reflectance", "specular", "transmittance", "transmission"})) {
       scene.materials.push_back(std::move(material));
       continue;
     }
@@ -51,6 +89,7 @@ void decode_materials(Decoder& d, const json& doc) {
     // The Phong lobe only affects rendered images (SPEC §1; `lambert render`).
     if (const json* sp = d.member(m, "specular"))
       material.specular = specular_lobe(d, *sp, p + "/specular");
+    decode_transmission(d, m, p, material);
     scene.materials.push_back(std::move(material));
   }
 }

@@ -354,8 +354,14 @@ void decode_surface(Decoder& d, const json& j, std::size_t i,
     area_m2 = mesh_area(*mesh);
     surface.mesh = std::move(*mesh);
   }
-  if (const json* e = d.member(j, "emission"))
+  if (const json* e = d.member(j, "emission")) {
     surface.emission = decode_emission(d, *e, p + "/emission", area_m2);
+    // A pane has two faces (solver/pipeline/panes.h) and an emitter one front side.
+    const auto& materials = d.scene().materials;
+    if (static_cast<std::size_t>(surface.material) < materials.size() &&
+        materials[surface.material].transmission != Transmission::kNone)
+      d.error(p + "/emission", "a surface of a transmitting material (a pane) cannot emit");
+  }
   if (const json* r = d.member(j, "role")) surface.role = decode_role(d, *r, p + "/role");
   if (const json* t = d.member(j, "thermal")) {
     surface.thermal = decode_thermal(d, *t, p + "/thermal");

@@ -115,7 +115,7 @@ Vs3SceneResult vs3_scene(std::string_view text, std::string_view name) {
   Scene& scene = out.scene;
   scene.name = in.title;
   scene.grid = WavelengthGrid::from_list({555});
-  scene.materials.push_back({"black", {0.0}, std::nullopt});
+  scene.materials.push_back({"black", {0.0}, std::nullopt, Transmission::kNone, {}});
   std::vector<int> group_of_number(in.surfaces.size() + 1, -1);
   for (std::size_t k = 0; k < in.surfaces.size(); ++k) {
     const vs3::Surface& s = in.surfaces[k];

@@ -14,7 +14,7 @@ void certify_energy(Solution& sol, const Scene& scene, const DirectLight& light,
     for (std::size_t j = 0; j < N; ++j) leak[j] = 1 - gathered[j] / area[j];
   }
   account_energy(scene.grid, light.sources, sol.patches, light.rho, light.M, light.E_direct, light.E_known_flux,
-                 sol.radiosity, sol.irradiance, leak, sol.stats);
+                 sol.radiosity, sol.irradiance, leak, sol.stats, light.tau);
 }
 
 }  // namespace lambert

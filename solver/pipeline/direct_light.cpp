@@ -3,6 +3,9 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
+
+#include "solver/pipeline/panes.h"
 
 namespace lambert {
 namespace {
@@ -70,6 +73,9 @@ DirectLight direct_light(const Scene& scene, const std::vector<Patch>& patches, 
       d.any_emitter = true;
     }
   }
+  d.tau = patch_transmittance(scene, patches);
+  d.any_reflector |= std::any_of(d.tau.begin(), d.tau.end(), [](double t) { return t != 0; });
+  d.panes = pane_transfer(scene, patches);
   make_terms(scene, patches, lobed, d);
   if (!d.sources.empty()) {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, N, 16), [&](const auto& range) {
@@ -99,6 +105,7 @@ void DirectLight::leave_out_enclosed(const std::vector<Hemisphere>& hemisphere, 
     if (hemisphere[i] == Hemisphere::Enclosed)
       for (std::size_t w = 0; w < W; ++w) {
         rho[i * W + w] = 0, M[i * W + w] = 0;
+        if (!tau.empty()) tau[i * W + w] = 0;
         for (SourceTerms& term : terms)
           if (!term.M.empty()) term.M[i * W + w] = 0;
       }

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "solver/light_model.h"
+#include "solver/linear_solve.h"
 #include "solver/radiosity.h"
 #include "solver/visibility.h"
 #include "solver/visible_fraction.h"
@@ -39,15 +40,19 @@ struct DirectLight {
   // [patch][λ] flat: reflectance, Lambertian emission, direct irradiance from every source, and the
   // part of it from sources of known flux (flux_factor > 0: point-like lights and lobed emitters).
   std::vector<double> rho, M, E_direct, E_known_flux;
+  // Glazing (panes.h): per patch and wavelength the transmittance τ (empty where no material
+  // transmits), and P, what each pane face gathers of the other face's irradiance.
+  std::vector<double> tau;
+  PaneTransfer panes;
   bool any_emitter = false;    // some patch emits (Lambertian)
-  bool any_reflector = false;  // some patch reflects at some wavelength (ρ ≠ 0: signed in rgb mode)
+  bool any_reflector = false;  // some patch reflects or transmits at some wavelength (ρ ≠ 0: signed in rgb mode)
   std::vector<SourceTerms> terms;   // with output.per_source: the lights, then the emitting surfaces
   std::vector<int> term_of_source;  // per source: its term, or −1
 
   // Whether radiosity can flow between patches: something emits, or a source lights a reflector.
   bool needs_transport() const { return any_emitter || (any_reflector && !sources.empty()); }
 
-  // Patches inside closed solids neither emit nor reflect: their ρ and M (and their terms' M) are 0.
+  // Patches inside closed solids neither emit nor reflect: their ρ, τ and M (and their terms' M) are 0.
   void leave_out_enclosed(const std::vector<Hemisphere>& hemisphere, std::size_t W);
 };
 

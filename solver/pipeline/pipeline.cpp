@@ -23,14 +23,15 @@ std::vector<RhsSet> rhs_sets(const DirectLight& light) {
   return sets;
 }
 
-// The unknowns: patches that reflect at some wavelength and take part in the exchange.
+// The unknowns: patches that reflect or transmit at some wavelength and take part in the exchange.
 std::vector<int> unknown_patches(const DirectLight& light, const std::vector<Hemisphere>& hemisphere, std::size_t N,
                                  std::size_t W) {
   std::vector<int> unknowns;
+  auto nonzero = [](const double* v, std::size_t n) { return std::any_of(v, v + n, [](double r) { return r != 0; }); };
   for (std::size_t i = 0; i < N; ++i) {
     if (hemisphere[i] == Hemisphere::Enclosed) continue;
-    const double* rho = &light.rho[i * W];
-    if (std::any_of(rho, rho + W, [](double r) { return r != 0; })) unknowns.push_back(static_cast<int>(i));
+    if (nonzero(&light.rho[i * W], W) || (!light.tau.empty() && nonzero(&light.tau[i * W], W)))
+      unknowns.push_back(static_cast<int>(i));
   }
   return unknowns;
 }
@@ -41,7 +42,8 @@ void solve_round(SpectralSystems& systems, const TransportOperator& op, const Sc
   for (RadiositySystem& sys : systems.systems()) sys.iterations = 0;
   solve_radiosity_systems(systems.unknowns().size(), op.among(systems.unknowns()), systems.systems(),
                           scene.solver.tolerance, scene.solver.max_iterations,
-                          [&] { return control.cancel && control.cancel->load(std::memory_order_relaxed); });
+                          [&] { return control.cancel && control.cancel->load(std::memory_order_relaxed); },
+                          &systems.transfer());
 }
 
 }  // namespace
@@ -74,7 +76,8 @@ Solution run_pipeline(const Scene& scene, TransportOperator& op, SolveStats stat
   }
   const std::vector<Hemisphere>& hemisphere = transport ? op.hemispheres() : open;
   SpectralSystems systems(light.rho, rhs_sets(light),
-                          transport ? unknown_patches(light, hemisphere, N, W) : std::vector<int>{}, N, W);
+                          transport ? unknown_patches(light, hemisphere, N, W) : std::vector<int>{}, N, W, light.tau,
+                          light.panes);
   double time_build = 0, time_solve = 0;
   if (transport) {
     time_build += seconds_since(t0);

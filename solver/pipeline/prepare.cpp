@@ -7,6 +7,7 @@
 #include <variant>
 
 #include "mesh/mesh_ops.h"
+#include "solver/pipeline/panes.h"
 #include "solver/solids.h"
 #include "solver/visibility.h"
 #include "solver/visible_fraction.h"
@@ -119,6 +120,7 @@ PreparedScene::PreparedScene(const Scene& scene, const SolveControl& control) : 
       for (Point3& p : probe.points) p = p - shift_;
   }
   merge_and_cut(control);
+  if (has_panes(this->scene())) add_pane_back_faces(owned_ ? *owned_ : owned_.emplace(given_));
 }
 
 void PreparedScene::merge_and_cut(const SolveControl& control) {

@@ -8,6 +8,7 @@
 //   - Contacts: surfaces are cut where other surfaces touch or cross them (imprint_contacts), so that
 //     no patch straddles a box's footprint on a floor; the pieces in face-to-face contact are removed
 //     and the two faces of sheets of zero thickness flagged (Surface::two_sided).
+//   - Panes: a surface whose material transmits gets its back face (solver/pipeline/panes.h).
 #pragma once
 
 #include <optional>

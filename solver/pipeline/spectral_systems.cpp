@@ -13,12 +13,25 @@
 namespace lambert {
 
 SpectralSystems::SpectralSystems(const std::vector<double>& rho, std::vector<RhsSet> sets, std::vector<int> unknowns,
-                                 std::size_t patches, std::size_t wavelengths)
-    : rho_(rho), sets_(std::move(sets)), unknowns_(std::move(unknowns)), N_(patches), W_(wavelengths) {
+                                 std::size_t patches, std::size_t wavelengths, const std::vector<double>& tau,
+                                 const PaneTransfer& panes)
+    : rho_(rho), tau_(tau), panes_(panes), sets_(std::move(sets)), unknowns_(std::move(unknowns)), N_(patches),
+      W_(wavelengths) {
   unknown_of_.assign(N_, -1);
   for (std::size_t r = 0; r < unknowns_.size(); ++r) unknown_of_[unknowns_[r]] = static_cast<int>(r);
   for (std::size_t i = 0; i < N_; ++i)
     if (unknown_of_[i] < 0) known_.push_back(static_cast<int>(i));
+  if (!panes_.empty()) {
+    pane_row_of_.assign(N_, -1);
+    for (std::size_t r = 0; r < panes_.row.size(); ++r) {
+      pane_row_of_[panes_.row[r]] = static_cast<int>(r);
+      if (unknown_of_[panes_.row[r]] < 0) continue;
+      transfer_.row.push_back(unknown_of_[panes_.row[r]]);
+      for (std::size_t e = panes_.start[r]; e < panes_.start[r + 1]; ++e)
+        if (unknown_of_[panes_.col[e]] >= 0) transfer_.col.push_back(unknown_of_[panes_.col[e]]), transfer_.weight.push_back(panes_.weight[e]);
+      transfer_.start.push_back(transfer_.col.size());
+    }
+  }
   system_of_.resize(sets_.size() * W_);
   // Candidates by a hash of everything that defines a system, then compared value by value against
   // the system's first (set, λ): no copy of the keys (N doubles each) is kept.
@@ -39,10 +52,12 @@ SpectralSystems::SpectralSystems(const std::vector<double>& rho, std::vector<Rhs
         const std::size_t n = unknowns_.size();
         sys.rho.resize(n);
         sys.b.resize(n);
+        if (!transfer_.empty()) sys.tau.resize(n);
         for (std::size_t r = 0; r < n; ++r) {
           const std::size_t i = unknowns_[r];
           sys.rho[r] = rho_[i * W_ + w];
-          sys.b[r] = emission(set, w, i) + sys.rho[r] * direct(set, w, i);
+          if (!sys.tau.empty()) sys.tau[r] = transmittance(w, i);
+          sys.b[r] = rhs(set, w, i, nullptr);
         }
         sys.x = sys.b;
       }
@@ -54,6 +69,23 @@ double SpectralSystems::known_radiosity(std::size_t set, std::size_t w, std::siz
   return emission(set, w, i) + rho_[i * W_ + w] * direct(set, w, i);
 }
 
+double SpectralSystems::twin_irradiance(std::size_t set, std::size_t w, std::size_t i, const double* gathered) const {
+  if (pane_row_of_.empty() || pane_row_of_[i] < 0) return 0;
+  const std::size_t r = static_cast<std::size_t>(pane_row_of_[i]);
+  double H = 0;
+  for (std::size_t e = panes_.start[r]; e < panes_.start[r + 1]; ++e) {
+    const std::size_t j = static_cast<std::size_t>(panes_.col[e]);
+    H += panes_.weight[e] * (direct(set, w, j) + (gathered ? gathered[j] : 0.0));
+  }
+  return H;
+}
+
+double SpectralSystems::rhs(std::size_t set, std::size_t w, std::size_t i, const double* gathered) const {
+  const double own = direct(set, w, i) + (gathered ? gathered[i] : 0.0);
+  const double tau = transmittance(w, i);
+  return emission(set, w, i) + rho_[i * W_ + w] * own + (tau != 0 ? tau * twin_irradiance(set, w, i, gathered) : 0.0);
+}
+
 std::size_t SpectralSystems::hash(std::size_t set, std::size_t w) const {
   std::uint64_t h = 1469598103934665603ull;  // FNV-1a over the values' bits (0 and −0 alike)
   auto add = [&](double v) {
@@ -62,6 +94,7 @@ std::size_t SpectralSystems::hash(std::size_t set, std::size_t w) const {
   };
   for (int i : unknowns_) {
     add(rho_[i * W_ + w]);
+    add(transmittance(w, i));
     add(emission(set, w, i));
     add(direct(set, w, i));
   }
@@ -71,7 +104,8 @@ std::size_t SpectralSystems::hash(std::size_t set, std::size_t w) const {
 
 bool SpectralSystems::same_system(std::size_t set, std::size_t w, const Representative& r) const {
   for (int i : unknowns_)
-    if (rho_[i * W_ + w] != rho_[i * W_ + r.w] || emission(set, w, i) != emission(r.set, r.w, i) ||
+    if (rho_[i * W_ + w] != rho_[i * W_ + r.w] || transmittance(w, i) != transmittance(r.w, i) ||
+        emission(set, w, i) != emission(r.set, r.w, i) ||
         direct(set, w, i) != direct(r.set, r.w, i))
       return false;
   for (int j : known_)
@@ -119,11 +153,8 @@ void SpectralSystems::set_right_hand_sides(const TransportOperator* op, bool fir
     for (std::size_t k = range.begin(); k != range.end(); ++k) {
       RadiositySystem& sys = systems_[k];
       const Representative& rep = representative_[k];
-      for (std::size_t r = 0; r < n; ++r) {
-        const std::size_t i = unknowns_[r];
-        const double gathered = fold[k].empty() ? 0.0 : fold[k][i];
-        sys.b[r] = emission(rep.set, rep.w, i) + sys.rho[r] * (direct(rep.set, rep.w, i) + gathered);
-      }
+      const double* gathered = fold[k].empty() ? nullptr : fold[k].data();
+      for (std::size_t r = 0; r < n; ++r) sys.b[r] = rhs(rep.set, rep.w, unknowns_[r], gathered);
       if (first_guess) sys.x = sys.b;
     }
   });

@@ -10,7 +10,10 @@
 //
 //   B_u − ρ_u Σ_{v unknown} F_uv B_v = M_u + ρ_u (E_u + Σ_{j known} F_uj B_j)
 //
-// Two (set, wavelength) pairs share a system where ρ, M and E over the unknowns and B over the known
+// Faces of diffusely transmitting panes (panes.h) add τ_u Σ_v P_uv H_v, what they pass on of the other
+// face's irradiance H = F B + E, on both sides (the twin faces are unknowns too).
+//
+// Two (set, wavelength) pairs share a system where ρ, τ, M and E over the unknowns and B over the known
 // patches are the same: grey scenes solve one system for all wavelengths, and a per-source set whose
 // source lights everything the joint one does shares the joint system.
 #pragma once
@@ -35,13 +38,17 @@ class SpectralSystems {
  public:
   // rho: [patch][λ]; `unknowns` ascending. Each system starts with b = x = M + ρ E (the first
   // bounce, without what known patches send: F is not formed yet).
+  // tau ([patch][λ], empty: no pane) and `panes` (over all patches) from DirectLight.
   SpectralSystems(const std::vector<double>& rho, std::vector<RhsSet> sets, std::vector<int> unknowns,
-                  std::size_t patches, std::size_t wavelengths);
+                  std::size_t patches, std::size_t wavelengths, const std::vector<double>& tau = {},
+                  const PaneTransfer& panes = {});
 
   std::size_t size() const { return systems_.size(); }
   std::vector<RadiositySystem>& systems() { return systems_; }
   const std::vector<RadiositySystem>& systems() const { return systems_; }
   const std::vector<int>& unknowns() const { return unknowns_; }
+  // P among the unknowns (rows and columns are indices into unknowns()), for the linear solve.
+  const PaneTransfer& transfer() const { return transfer_; }
   std::size_t patches() const { return N_; }
   std::size_t sets() const { return sets_.size(); }
   std::size_t system_of(std::size_t set, std::size_t w) const { return system_of_[set * W_ + w]; }
@@ -72,8 +79,18 @@ class SpectralSystems {
     return sets_[set].M ? (*sets_[set].M)[i * W_ + w] : 0.0;
   }
   double direct(std::size_t set, std::size_t w, std::size_t i) const { return (*sets_[set].E)[i * W_ + w]; }
+  double transmittance(std::size_t w, std::size_t i) const { return tau_.empty() ? 0.0 : tau_[i * W_ + w]; }
+  // Σ_v P_iv (E_v + G_v): the other face's irradiance as far as it is known before the solve (G: F
+  // B_known over all patches, nullptr: none); 0 for a patch that is no pane face.
+  double twin_irradiance(std::size_t set, std::size_t w, std::size_t i, const double* gathered) const;
+  // b of unknown i: M + ρ (E + G) + τ P (E + G).
+  double rhs(std::size_t set, std::size_t w, std::size_t i, const double* gathered) const;
 
   const std::vector<double>& rho_;
+  const std::vector<double>& tau_;
+  const PaneTransfer& panes_;      // over all patches
+  std::vector<int> pane_row_of_;   // per patch: its row of panes_, or −1 (empty without panes)
+  PaneTransfer transfer_;          // among the unknowns
   std::vector<RhsSet> sets_;
   std::vector<int> unknowns_, known_;
   std::vector<int> unknown_of_;  // per patch: its index among the unknowns, or −1
