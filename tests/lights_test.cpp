@@ -9,10 +9,13 @@
 #include <cmath>
 #include <functional>
 #include <numeric>
+#include <random>
 
 #include "solver/cubature.h"
 #include "solver/form_factor.h"
 #include "solver/light_model.h"
+#include "solver/lights/axial_moments.h"
+#include "solver/lights/point_like.h"
 #include "solver/radiosity.h"
 #include "tests/scene_builder.h"
 
@@ -467,6 +470,78 @@ TEST(Lights, PhongWithExponentOneEqualsTheFormFactorPath) {
       ASSERT_GT(lambert, 0) << "receiver " << r;
       EXPECT_NEAR(got, lambert, 1e-4 * lambert) << "receiver " << r;  // the bound asked for
       EXPECT_NEAR(got, lambert, 1e-6 * lambert) << "receiver " << r;  // what it achieves
+    }
+  }
+}
+
+TEST(Lights, AxialMomentsAgreeWithThePolarIntegral) {
+  // Arvo's double-axis moment τ^{n,1}(A; a, b) = ∫_A (a·u)^n (b·u) dσ against the polar integral about
+  // a (cone_integral: adaptive quadrature in polar coordinates about a), on random triangles and quadrilaterals
+  // within 35° of +z seen from the origin, a and b within 40° of +z (so a·u, b·u > 0 over A).
+  std::mt19937 rng(20261205);
+  std::uniform_real_distribution<double> U(-1, 1), Z(0.5, 2);
+  auto near_z = [&](double max_tan) { return normalize(Vector3{max_tan * U(rng), max_tan * U(rng), 1}); };
+  for (int trial = 0; trial < 24; ++trial) {
+    const int vertices = trial % 2 ? 4 : 3;
+    std::vector<Point3> polygon;
+    if (vertices == 3) {
+      for (int k = 0; k < 3; ++k) {
+        const double z = Z(rng);
+        polygon.push_back({0.35 * z * U(rng), 0.35 * z * U(rng), z});
+      }
+    } else {  // a planar quadrilateral: a square tilted about x, around a point on +z
+      const double z = Z(rng), h = 0.2 * z, tilt = 0.6 * U(rng);
+      const Vector3 e1{h, 0, 0}, e2{0, h * std::cos(tilt), h * std::sin(tilt)};
+      const Point3 c{0.1 * z * U(rng), 0.1 * z * U(rng), z};
+      polygon = {c - e1 - e2, c + e1 - e2, c + e1 + e2, c - e1 + e2};
+    }
+    const Vector3 a = near_z(0.8), b = near_z(0.8);
+    double omega = 0;  // the solid angle Ω, the scale of the recurrence's rounding
+    for (std::size_t k = 1; k + 1 < polygon.size(); ++k)
+      omega += triangle_solid_angle(Point3{0, 0, 0}, Triangle{{polygon[0], polygon[k], polygon[k + 1]}});
+    for (const int n : {0, 1, 2, 3, 8, 19, 20, 100}) {
+      const double polar = cone_integral(Point3{0, 0, 0}, ConeLobe{a, static_cast<double>(n), kPi / 2}, polygon,
+                                         [&](const Vector3& u) { return dot(b, u); }, 1e-12);
+      const double moment = double_axis_moment(Point3{0, 0, 0}, polygon, a, b, n);
+      EXPECT_NEAR(moment, polar, 1e-9 * polar + 1e-14 * omega) << "trial " << trial << " n " << n;
+    }
+    // n = 0 is Lambert's contour integral: τ^{0,1}(A; ·, b) = π F(dA_b → polygon), F taken for the
+    // orientation that faces the origin (the other gives 0).
+    std::vector<Point3> reversed(polygon.rbegin(), polygon.rend());
+    const double lambert = kPi * (point_polygon_factor(Point3{0, 0, 0}, b, polygon) +
+                                  point_polygon_factor(Point3{0, 0, 0}, b, reversed));
+    EXPECT_NEAR(double_axis_moment(Point3{0, 0, 0}, polygon, a, b, 0), lambert, 1e-12 * lambert) << "trial " << trial;
+  }
+  // Far off the axis the moments fall as (a·u)^n while the recurrence's rounding stays that of the
+  // solid angle Ω: at 60° from a, n = 1000, τ ≈ 0.5^1000 Ω ≈ 1e-301 Ω, and the result is within 1e-14 Ω of it.
+  const std::vector<Point3> off_axis = {{0.84, 0, 0.5}, {0.9, 0.05, 0.5}, {0.84, 0.1, 0.5}};
+  const Vector3 axis{0, 0, 1};
+  const double omega = triangle_solid_angle(Point3{0, 0, 0}, Triangle{{off_axis[0], off_axis[1], off_axis[2]}});
+  for (const int n : {200, 1000, 5000})
+    EXPECT_LE(std::abs(double_axis_moment(Point3{0, 0, 0}, off_axis, axis, axis, n)), 1e-14 * omega) << n;
+}
+
+TEST(Lights, PhongPatchFactorByMomentsEqualsTheEmitterSideIntegral) {
+  // n = 20 by the moments (exact at receiver points, cubature over the receiver) against
+  // n = 20 + 1e-12 by the polar integral (exact over the receiver, cubature over the emitter): two
+  // routes that share no kernel. Opposed, perpendicular and touching, far and tilted, and 1 cm apart.
+  const auto emitter = rectangle({0, 0, 1}, {0, 1, 0}, {1, 0, 0});  // faces -z
+  const std::vector<Triangle> receivers = {
+      Triangle{{Point3{0, 0, 0}, Point3{1, 0, 0}, Point3{1, 1, 0}}},
+      Triangle{{Point3{0, 0, 0}, Point3{0, 1, 0}, Point3{0, 0, 1}}},
+      Triangle{{Point3{1.5, 0, 0}, Point3{1.6, 0.1, 0.4}, Point3{1.5, 0.2, 0}}},
+      Triangle{{Point3{0.2, 0.1, 0.99}, Point3{0.4, 0.2, 0.99}, Point3{0.3, 0.4, 0.99}}},
+      Triangle{{Point3{0.45, 0.45, 0.2}, Point3{0.55, 0.45, 0.2}, Point3{0.5, 0.55, 0.2}}}};
+  std::vector<Triangle> occluders = receivers;
+  occluders.insert(occluders.end(), emitter.begin(), emitter.end());
+  const Visibility vis(occluders);
+  for (const Triangle& e : emitter) {
+    const auto by_moments = make_phong_emitter(e, 20, {1.0});
+    const auto by_polar = make_phong_emitter(e, 20 + 1e-12, {1.0});
+    for (std::size_t r = 0; r < receivers.size(); ++r) {
+      const double polar = by_polar->patch_factor(receivers[r], vis);
+      ASSERT_GT(polar, 0) << "receiver " << r;
+      EXPECT_NEAR(by_moments->patch_factor(receivers[r], vis), polar, 2e-5 * polar) << "receiver " << r;
     }
   }
 }

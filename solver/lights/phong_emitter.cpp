@@ -7,16 +7,22 @@
 //   and the emitter's normal; with dω = cos ψ dA/r², E(p) = R (n+1)/(2π) ∫_{Ω(emitter)} cos^{n−1} ψ
 //   (n_p·ω) dω: the cone integral about −normal with the receiver's cosine as the weight, after
 //   clipping the emitter at p's horizon.
-// - Over a receiving patch: each emitter point q is a cos^n point source aimed along the normal; the
-//   flux it sends into the patch is the exact cone integral, and the emitter's area is integrated by
-//   adaptive cubature (refined where the integrand's estimate changes, as for form factors). For n = 1
-//   this is A_i F_ij, the Lambertian form factor, computed by another route.
+//   For a whole n that integral is Arvo's double-axis moment τ^{n−1,1}(emitter; −normal, n_p), exact
+//   in O(n) operations (solver/lights/axial_moments.h); for other n the polar integral about −normal
+//   (cone_integral) evaluates it numerically.
+// - Over a receiving patch, for a whole n: the point value integrated over the receiver by the
+//   adaptive cubature of the Lambertian form factors (solver/form_factor.cpp), so a lobed emitter
+//   costs what a Lambertian one does. For other n: each emitter point q is a cos^n point source
+//   aimed along the normal, the flux it sends into the patch is the exact cone integral, and the
+//   emitter's area is integrated by adaptive cubature. For n = 1 either is A_i F_ij, the Lambertian
+//   form factor, computed by another route.
 #include <algorithm>
 #include <array>
 #include <cmath>
 
 #include "solver/cubature.h"
 #include "solver/form_factor.h"
+#include "solver/lights/axial_moments.h"
 #include "solver/lights/point_like.h"
 #include "solver/visible_fraction.h"
 
@@ -29,6 +35,9 @@ namespace {
 constexpr double kRelTolerance = 1e-5;
 constexpr int kMaxDepth = 8;
 constexpr double kConeTolerance = 1e-7;
+// Whole exponents up to this take the double-axis moments: O(n) per point, against the polar
+// integral's cost, which does not grow with n (a lobe of n = 10⁴ is 4 × 10⁴ recurrence steps).
+constexpr double kMaxMomentExponent = 10000;
 
 // The part of triangle t with (X − p)·n ≥ 0 (Sutherland–Hodgman); at most 4 vertices.
 int clip_above(const Triangle& t, const Point3& p, const Vector3& n, std::array<Point3, 4>& out) {
@@ -68,10 +77,11 @@ class PhongEmitterModel final : public LightModel {
     std::array<Point3, 4> visible_part;
     const int count = clip_above(emitter_, p, n, visible_part);
     if (count < 3) return 0;
+    const std::span<const Point3> part(visible_part.data(), count);
+    if (by_moments()) return normalisation() * moment_at(p, n, part);
     // dA at the emitter subtends dω = cos ψ dA / r² at p, so the lobe in p's solid angle is cos^{n−1}.
     const ConeLobe seen_from_p{-lobe_.axis, lobe_.exponent - 1, kPi / 2};
-    return normalisation() * cone_integral(p, seen_from_p, std::span<const Point3>(visible_part.data(), count),
-                                           [&](const Vector3& w) { return std::max(0.0, dot(n, w)); });
+    return normalisation() * cone_integral(p, seen_from_p, part, [&](const Vector3& w) { return std::max(0.0, dot(n, w)); });
   }
 
   double point_factor(const Point3& p, const Vector3& n, const Visibility& vis) const override {
@@ -106,28 +116,7 @@ class PhongEmitterModel final : public LightModel {
   double patch_factor(const Triangle& t, const Visibility& vis) const override {
     const Vector3 nt = t.normal();
     if (!any_in_front(emitter_, lobe_.axis, t) || !any_in_front(t, nt, emitter_) || beyond_lobe(t)) return 0;
-    // Flux into t from the emitter's point q, per unit of (n+1)/(2π) R dA_q.
-    auto flux_from = [&](const Point3& q) {
-      return dot(q - t.v[0], nt) > 0 ? cone_integral(q, lobe_, t.v, {}, kConeTolerance) : 0.0;
-    };
-    // Far apart, relative to the lobe's width ~ 1/sqrt(n), the degree-5 rule alone is accurate (as
-    // for the Lambertian form factors, to which this reduces at n = 1).
-    const double separation = distance(emitter_.centroid(), t.centroid()) / (emitter_.bounding_radius() + t.bounding_radius());
-    // flux_from vanishes behind t's plane: where that plane cuts the emitter, integrate over the part
-    // in front (cubature.h, front_part), on which the integrand has no kink.
-    const FrontPart part = front_part(emitter_, t.v[0], nt);
-    const bool far = separation > 4 * std::sqrt(std::max(1.0, lobe_.exponent));
-    double G = 0;
-    for (int k = 0; k < part.count; ++k) {
-      const Triangle& piece = part.pieces[k];
-      if (far) {
-        G += apply_rule(triangle_rule_degree5(), piece, flux_from);
-      } else {
-        const double ratio = piece.max_edge_length() / t.max_edge_length();
-        const int min_depth = lobe_.exponent > 8 ? std::clamp(static_cast<int>(std::ceil(std::log2(ratio))), 0, 4) : 0;
-        G += integrate_graded(piece, flux_from, min_depth, kRelTolerance, 1e-12 * area_);
-      }
-    }
+    const double G = by_moments() ? receiver_integral(t, nt) : emitter_integral(t, nt);
     const double average = normalisation() * G / t.area();
     if (!(average > 0)) return 0;
     return average * weighted_visible_fraction(
@@ -165,6 +154,65 @@ class PhongEmitterModel final : public LightModel {
 
  private:
   double normalisation() const { return (lobe_.exponent + 1) / (2 * kPi); }
+  bool by_moments() const { return lobe_.exponent <= kMaxMomentExponent && std::floor(lobe_.exponent) == lobe_.exponent; }
+  // Far apart, relative to the lobe's width ~ 1/sqrt(n), the degree-5 rule alone is accurate (as for
+  // the Lambertian form factors, to which either integral reduces at n = 1).
+  bool far_from(const Triangle& t) const {
+    const double separation =
+        distance(emitter_.centroid(), t.centroid()) / (emitter_.bounding_radius() + t.bounding_radius());
+    return separation > 4 * std::sqrt(std::max(1.0, lobe_.exponent));
+  }
+  // A narrow lobe draws a beam whose footprint is about the emitter's size: the larger of two
+  // triangles is first split uniformly until its pieces are no larger than the smaller one.
+  int graded_depth(const Triangle& larger, const Triangle& smaller) const {
+    if (lobe_.exponent <= 8) return 0;
+    const double ratio = larger.max_edge_length() / smaller.max_edge_length();
+    return std::clamp(static_cast<int>(std::ceil(std::log2(ratio))), 0, 4);
+  }
+
+  // τ^{n−1,1}(part; −normal, np) at p: ∫ cos^{n−1} ψ (np·ω) dω over the emitter's part above p's
+  // horizon.
+  double moment_at(const Point3& p, const Vector3& np, std::span<const Point3> part) const {
+    return double_axis_moment(p, part, -lobe_.axis, np, static_cast<int>(lobe_.exponent) - 1);
+  }
+
+  // ∫_t τ^{n−1,1} dA (= ∫∫ cos^n ψ cos α / r² dA_q dA_p, as emitter_integral) over the receiver's part in front of the emitter (where that plane cuts t, the
+  // pieces in front: the integrand has no kink inside them), by the form factors' adaptive cubature.
+  double receiver_integral(const Triangle& t, const Vector3& nt) const {
+    auto f = [&](const Point3& p) {
+      std::array<Point3, 4> part;
+      const int count = clip_above(emitter_, p, nt, part);
+      return count < 3 ? 0.0 : moment_at(p, nt, std::span<const Point3>(part.data(), count));
+    };
+    const FrontPart front = front_part(t, emitter_.v[0], lobe_.axis);
+    const bool far = far_from(t);
+    double G = 0;
+    for (int k = 0; k < front.count; ++k) {
+      const Triangle& piece = front.pieces[k];
+      G += far ? apply_rule(triangle_rule_degree5(), piece, f)
+               : integrate_graded(piece, f, graded_depth(piece, emitter_), kRelTolerance, 1e-12 * piece.area());
+    }
+    return G;
+  }
+
+  // The same flux from the emitter's side: ∫_emitter (flux into t from the cos^n point source at q)
+  // dA_q, in units of (n+1)/(2π) R, for exponents the moments do not take.
+  double emitter_integral(const Triangle& t, const Vector3& nt) const {
+    auto flux_from = [&](const Point3& q) {
+      return dot(q - t.v[0], nt) > 0 ? cone_integral(q, lobe_, t.v, {}, kConeTolerance) : 0.0;
+    };
+    // flux_from vanishes behind t's plane: where that plane cuts the emitter, integrate over the part
+    // in front (cubature.h, front_part), on which the integrand has no kink.
+    const FrontPart part = front_part(emitter_, t.v[0], nt);
+    const bool far = far_from(t);
+    double G = 0;
+    for (int k = 0; k < part.count; ++k) {
+      const Triangle& piece = part.pieces[k];
+      G += far ? apply_rule(triangle_rule_degree5(), piece, flux_from)
+               : integrate_graded(piece, flux_from, graded_depth(piece, t), kRelTolerance, 1e-12 * area_);
+    }
+    return G;
+  }
 
   // Every direction from the emitter to t lies within asin(R/d) of the centroids' direction (R: the
   // sum of the bounding radii, d: the centroids' distance), so it makes at least ψ_min with the
