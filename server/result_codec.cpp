@@ -326,6 +326,15 @@ json stats_json(const SolveStats& st) {
         {"solve", st.time_solve_s},
         {"probes", st.time_probes_s},
         {"total", st.time_total_s}}}};
+  if (st.error_estimate) {
+    const SolveStats::ErrorEstimate& e = *st.error_estimate;
+    out["error_estimate"] = {{"coarse_patches", e.coarse_patches},
+                             {"coarse_max_patch_area_m2", e.coarse_max_patch_area_m2},
+                             {"surface_irradiance_max", e.surface_irradiance_max},
+                             {"probe_irradiance_rms", e.probe_irradiance_rms},
+                             {"probe_irradiance_max", e.probe_irradiance_max},
+                             {"time_s", e.time_s}};
+  }
   out["method"] = method_name(st.method);
   out[method_name(st.method)] = method_stats(st);
   return out;

@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -82,6 +83,18 @@ struct SolveStats {
                                     // hidden), their pair's box holding too many occluders
     int refine_rounds = 0;          // refinement rounds that changed the links
   } hierarchical;
+
+  // output.error_estimate (solver/pipeline/error_estimate.h): the change from a solve on patches four
+  // times larger, relative to this solve's values (totals over λ). Absent unless asked.
+  struct ErrorEstimate {
+    std::size_t coarse_patches = 0;
+    double coarse_max_patch_area_m2 = 0;
+    double surface_irradiance_max = 0;  // max over surfaces of |Ē_h − Ē_2h| / Ē_h
+    double probe_irradiance_rms = 0;    // over every probe point, |E_h − E_2h| / E_h
+    double probe_irradiance_max = 0;
+    double time_s = 0;                  // the coarser solve and the comparison
+  };
+  std::optional<ErrorEstimate> error_estimate;
 };
 
 // One source's share of the solution (output.per_source). The radiosity equation is linear in the

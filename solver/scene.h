@@ -244,6 +244,10 @@ struct OutputOptions {
   // The surface-to-surface view factors (solver/thermal/view_factors.h). The patch-to-patch matrix,
   // which can outgrow any result, is `lambert viewfactors --patches`'s alone.
   bool view_factors = false;
+  // stats.error_estimate: the change from a second solve on patches four times larger
+  // (solver/pipeline/error_estimate.h); it costs that solve, about a quarter (hierarchical) or a
+  // sixteenth (dense) of the first.
+  bool error_estimate = false;
 };
 
 struct Scene {

@@ -3,7 +3,8 @@
 // interreflection, so the independent answer is the dense method on a finer mesh than any rung
 // (for the hierarchical method a second method; for the dense method the same one, refined).
 // What is checked: the sensors' error against it falls monotonically, rung by rung, in rms and at the
-// worst sensor; and tightening solver.accuracy brings the hierarchical answer toward the dense one.
+// worst sensor; the solve's own error estimate (output.error_estimate) is at least that error; and
+// tightening solver.accuracy brings the hierarchical answer toward its limit.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -82,7 +83,9 @@ TEST_P(RefinementLadder, TheSensorsErrorFallsRungByRungTowardAFinerDenseSolve) {
   Error previous{1e300, 1e300};
   std::size_t previous_patches = 0;
   for (double rung : {150.0, 500.0, 1200.0}) {
-    const Solution sol = solve(room(rung, GetParam()));
+    Scene scene = room(rung, GetParam());
+    scene.output.error_estimate = true;
+    const Solution sol = solve(scene);
     ASSERT_EQ(sol.stats.method, GetParam());
     ASSERT_GT(sol.patches.size(), previous_patches);
     ASSERT_LT(sol.patches.size(), ref.patches.size());
@@ -91,6 +94,11 @@ TEST_P(RefinementLadder, TheSensorsErrorFallsRungByRungTowardAFinerDenseSolve) {
                  std::to_string(e.worst));
     EXPECT_LT(e.rms, previous.rms);
     EXPECT_LT(e.worst, previous.worst);
+    // The solve's own estimate (the change from patches four times larger, error_estimate.h) bounds
+    // the error it states.
+    ASSERT_TRUE(sol.stats.error_estimate.has_value());
+    EXPECT_GE(sol.stats.error_estimate->probe_irradiance_rms, e.rms);
+    EXPECT_GE(sol.stats.error_estimate->probe_irradiance_max, e.worst);
     previous = e;
     previous_patches = sol.patches.size();
   }

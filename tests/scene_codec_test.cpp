@@ -688,5 +688,12 @@ TEST(SceneCodecErrors, ThermalIsCheckedAndOnEverySurface) {
                        "expected a boolean"));
 }
 
+TEST(SceneCodec, OutputErrorEstimate) {
+  EXPECT_FALSE(decode_ok(scene_with(""))->output.error_estimate);
+  EXPECT_TRUE(decode_ok(scene_with(R"("output": {"error_estimate": true})"))->output.error_estimate);
+  EXPECT_TRUE(HasError(scene_with(R"("output": {"error_estimate": 1})"), "/output/error_estimate",
+                       "expected a boolean"));
+}
+
 }  // namespace
 }  // namespace lambert

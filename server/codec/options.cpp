@@ -43,6 +43,8 @@ void decode_output(Decoder& d, const json& o, OutputOptions& output) {
     if (auto v = d.boolean(*s, "/output/per_source")) output.per_source = *v;
   if (const json* v = d.member(o, "view_factors"))
     if (auto b = d.boolean(*v, "/output/view_factors")) output.view_factors = *b;
+  if (const json* v = d.member(o, "error_estimate"))
+    if (auto b = d.boolean(*v, "/output/error_estimate")) output.error_estimate = *b;
 }
 
 }  // namespace
@@ -57,7 +59,7 @@ void decode_options(Decoder& d, const json& doc) {
                     {"tolerance", "max_iterations", "method", "accuracy", "exact_visibility"}))
     decode_solver(d, *s, scene.solver);
   const json* o = d.member(doc, "output");
-  if (o && d.object(*o, "/output", {"spectral", "per_source", "view_factors"})) decode_output(d, *o, scene.output);
+  if (o && d.object(*o, "/output", {"spectral", "per_source", "view_factors", "error_estimate"})) decode_output(d, *o, scene.output);
 }
 
 }  // namespace lambert::codec

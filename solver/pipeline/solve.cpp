@@ -7,6 +7,7 @@
 #include "solver/dense/discretise.h"
 #include "solver/hierarchical/discretise.h"
 #include "solver/pipeline/daylight.h"
+#include "solver/pipeline/error_estimate.h"
 #include "solver/pipeline/pipeline.h"
 #include "solver/pipeline/prepare.h"
 #include "solver/radiosity.h"
@@ -106,6 +107,12 @@ Solution solve(const Scene& scene, const SolveControl& control) {
   enter_stage(control, SolveStage::Meshing);
   const PreparedScene prepared(scene, light_control);
   Solution sol = solve_method(prepared.scene(), light_control);
+  if (scene.output.error_estimate) {
+    SolveControl coarse_control = light_control;
+    coarse_control.progress = nullptr;
+    estimate_discretisation_error(prepared.scene(), sol,
+                                  [&](const Scene& coarse) { return solve_method(coarse, coarse_control); });
+  }
   measure_sky_components(prepared.scene(), sol, control);
   prepared.finish(sol);
   if (exchange) {
