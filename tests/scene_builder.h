@@ -20,7 +20,7 @@ class SceneBuilder {
   std::size_t W() const { return scene_.grid.size(); }
 
   int material(const std::string& name, double rho) {
-    scene_.materials.push_back({name, std::vector<double>(W(), rho), std::nullopt});
+    scene_.materials.push_back({name, std::vector<double>(W(), rho), std::nullopt, Transmission::kNone, {}});
     return static_cast<int>(scene_.materials.size()) - 1;
   }
   // A surface from triangles (front side counter-clockwise); emission is a constant exitance.
