@@ -431,7 +431,9 @@ TEST(Hierarchical, PatchesInsideSolidsNeitherReflectNorEmit) {
     Scene scene = b.scene();
     scene.solver.tolerance = 1e-12;
     const Solution sol = solve_with(scene, SolverMethod::Hierarchical);
-    if (gap < 0.01) EXPECT_GT(sol.stats.enclosed_patches, 0u);
+    if (gap < 0.01) {
+      EXPECT_GT(sol.stats.enclosed_patches, 0u);
+    }
     EXPECT_LT(std::abs(sol.stats.relative_imbalance), 1e-10) << "gap " << gap;
   }
 }
@@ -599,7 +601,9 @@ TEST(Hierarchical, ScaleAndPlacementDoNotChangeTheAnswer) {
     const Solution other = solve_with(room(scale, offset).scene(), SolverMethod::Hierarchical);
     const bool placed = offset.x != 0;
     ASSERT_EQ(other.patches.size(), one.patches.size());
-    if (!placed) EXPECT_EQ(other.stats.links, one.stats.links);
+    if (!placed) {
+      EXPECT_EQ(other.stats.links, one.stats.links);
+    }
     for (std::size_t p = 0; p < one.probes.size(); ++p)
       EXPECT_NEAR(other.probes[p].irradiance[0], one.probes[p].irradiance[0],
                   (placed ? 1e-5 : 1e-6) * one.probes[p].irradiance[0]) << p;
