@@ -12,7 +12,9 @@
 #include <vector>
 
 #include "server/scene_codec.h"
+#include "solver/pipeline/geometric.h"
 #include "solver/radiosity.h"
+#include "solver/thermal/view_factors.h"
 #include "tests/daylight_scenes.h"
 #include "tests/test_geometry.h"
 
@@ -170,6 +172,28 @@ TEST(DiffusePane, EnergyBalancesWithReflectingAbsorbingAndTransmittingPanes) {
                                                             << sol.stats.absorbed_W << " absorbed, "
                                                             << sol.stats.escaped_W << " escaped";
   }
+}
+
+TEST(DiffusePane, ViewFactorsTakeThePaneAsGiven) {
+  // View factors and radiant exchange are opaque and grey: a pane is the face it was given, not two.
+  // A unit cube room glazed at its ceiling: the ceiling's area is 1 m² and its factor to the floor
+  // is Howell C-11's 0.1998248957 (X = Y = 1), as in the opaque room.
+  json surfaces = json::array({rectangle("floor", "black", {0, 0, 0}, {1, 0, 0}, {0, 1, 0}),
+                               rectangle("ceiling", "glass", {0, 0, 1}, {0, 1, 0}, {1, 0, 0}),
+                               rectangle("south", "black", {0, 0, 0}, {0, 0, 1}, {1, 0, 0}),
+                               rectangle("north", "black", {0, 1, 0}, {1, 0, 0}, {0, 0, 1}),
+                               rectangle("west", "black", {0, 0, 0}, {0, 1, 0}, {0, 0, 1}),
+                               rectangle("east", "black", {1, 0, 0}, {0, 0, 1}, {0, 1, 0})});
+  json scene = scene_with(surfaces, json::array(), json::array());
+  scene["materials"]["glass"] = pane_material(0.1, 0.6);
+  scene["meshing"] = {{"max_patch_area", 0.01}, {"refine_direct", false}};
+  DecodeResult decoded = decode_scene(scene.dump());
+  ASSERT_TRUE(decoded.ok()) << format_errors(decoded.errors);
+  const GeometricOperator g = build_geometric_operator(*decoded.scene, {});
+  const ViewFactorMatrix m = surface_view_factors(*g.op, SurfaceGroups::each_surface(*decoded.scene));
+  ASSERT_EQ(m.size(), 6u);
+  EXPECT_NEAR(m.area_m2[1], 1.0, 1e-12);
+  EXPECT_NEAR(m.at(1, 0), test::howell_c11(1, 1), 1e-7);
 }
 
 TEST(GlazingInput, ErrorsNameTheField) {

@@ -40,7 +40,7 @@ GeometricOperator build_geometric_operator(const Scene& scene, const SolveContro
   const auto t_start = Clock::now();
   GeometricOperator out;
   enter_stage(control, SolveStage::Meshing);
-  out.prepared = std::make_unique<PreparedScene>(scene, control);
+  out.prepared = std::make_unique<PreparedScene>(scene, control, false);
   std::unique_ptr<TransportOperator> op = discretise(out.prepared->scene(), control, out.stats);
   out.stats.patches = op->size();
   out.stats.time_meshing_s = seconds_since(t_start);

@@ -107,7 +107,7 @@ std::string listed(const std::vector<std::string>& names, std::size_t of) {
 
 }  // namespace
 
-PreparedScene::PreparedScene(const Scene& scene, const SolveControl& control) : given_(scene) {
+PreparedScene::PreparedScene(const Scene& scene, const SolveControl& control, bool with_panes) : given_(scene) {
   shift_ = recentring_shift(scene);
   if (shift_.x != 0 || shift_.y != 0 || shift_.z != 0) {
     Scene& moved = owned_.emplace(scene);
@@ -120,7 +120,7 @@ PreparedScene::PreparedScene(const Scene& scene, const SolveControl& control) : 
       for (Point3& p : probe.points) p = p - shift_;
   }
   merge_and_cut(control);
-  if (has_panes(this->scene())) add_pane_back_faces(owned_ ? *owned_ : owned_.emplace(given_));
+  if (with_panes && has_panes(this->scene())) add_pane_back_faces(owned_ ? *owned_ : owned_.emplace(given_));
 }
 
 void PreparedScene::merge_and_cut(const SolveControl& control) {

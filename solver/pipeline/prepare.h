@@ -21,7 +21,9 @@ namespace lambert {
 
 class PreparedScene {
  public:
-  PreparedScene(const Scene& scene, const SolveControl& control);
+  // with_panes: add the back faces of panes (the light's solve); the geometry alone (view factors,
+  // radiant exchange: opaque, grey) takes each surface as given.
+  PreparedScene(const Scene& scene, const SolveControl& control, bool with_panes = true);
   PreparedScene(const PreparedScene&) = delete;
   PreparedScene& operator=(const PreparedScene&) = delete;
 
