@@ -14,16 +14,14 @@
 // for a uniform source L² ω = L² A_p / r² = I² / (A_p r²), which equals 200 I² / r² at
 // A_p = 0.005 m²: the two forms meet at the threshold.
 //
-// The position index: CIE 117 §4.5 interpolates the Guth table (Table 4.1, for sources above the line
-// of sight). Lambert uses the analytic form of the Luckiesh–Guth data given by Levin (R. E. Levin,
-// "Position index in VCP calculations", J. IES 4 (1975) 99–105), as Radiance's glarendx does,
-//
-//   ln p = σ [ (35.2 − 0.31889 τ − 1.22 e^{−2τ/9}) 10⁻³ + σ (21 + 0.26667 τ − 0.002963 τ²) 10⁻⁵ ],
-//
-// σ the angle between the line of sight and the direction of the source, τ the angle between the
-// plane through both and the vertical plane through the line of sight (degrees). Levin states it
-// follows Guth's plot to 12 % at most. It is applied below the line of sight as well (symmetric in
-// τ); sources at σ ≥ 90° (beside or behind the eye) do not count.
+// The position index p: CIE 117 §4.5 gives Guth's index as a table (Table 4.1) of H/R and T/R, for a
+// source at R along the line of sight, H above it and T beside it; Lambert interpolates that table
+// bilinearly (ugr_table.h uses the same table for CIE 190's standard tables). The table runs over
+// H/R 0 … 1.9 and T/R 0 … 3.0 in steps of 0.1, and leaves blank the cells above the field of view
+// (H/R 1.8 and 1.9 where T/R ≤ 0.3, H/R 1.9 where T/R ≤ 0.8): a source in a cell with a blank corner,
+// beyond the table, or at R ≤ 0 (beside or behind the eye) does not count. It is applied below the
+// line of sight as well (|H|). Levin's analytic fit of the same data (J. IES 4 (1975) 99–105, which
+// Radiance's glarendx uses) follows every tabulated value to 11 % (tests/glare_test.cpp).
 #pragma once
 
 #include <optional>
@@ -34,7 +32,11 @@
 
 namespace lambert {
 
-// Levin's position index for a unit direction towards the source; nullopt where σ ≥ 90°.
+// CIE 117 Table 4.1 at (|H|/R, |T|/R), bilinear between its nodes; nullopt outside the table or in a
+// cell with a blank corner.
+std::optional<double> guth_position_index_table(double h_over_r, double t_over_r);
+// The index for a unit direction towards the source from an eye looking along the unit `view`, with
+// `up` the vertical of the field (its part across `view` is used).
 std::optional<double> guth_position_index(const Vector3& view, const Vector3& up, const Vector3& to_source);
 
 // CIE 147's bound below which a source is small [m²].
@@ -60,7 +62,8 @@ struct GlareResult {
   std::vector<GlareSource> sources;       // the luminaires in the field (σ < 90°, some part visible)
 };
 
-// UGR from L_b and the sources' terms; nullopt where either is 0.
+// UGR from L_b and the sources' terms (or their sum Σ L² ω / p²); nullopt where either is 0.
 std::optional<double> unified_glare_rating(double background_luminance_cd_m2, const std::vector<GlareSource>& sources);
+std::optional<double> unified_glare_rating(double background_luminance_cd_m2, double sum);
 
 }  // namespace lambert
