@@ -62,7 +62,7 @@ cli::CommandSpec command_export() {
                        "the luminance in cd/m2 shown as white (default: the result's brightest reflecting patch)");
             o.footer("glTF and PLY: per-vertex colour (sRGB of the luminance), illuminance and luminance\n"
                      "(glTF attributes _ILLUMINANCE_LX, _LUMINANCE_CD_M2), positions in metres.\n"
-                     "CSV: one row per probe point: probe, u, v, x, y, z, illuminance_lx.");
+                     "CSV: one row per probe point: probe, u, v, x, y, z, illuminance_lx, quantity.");
             return [args] { return run_export(*args); };
           }};
 }

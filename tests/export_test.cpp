@@ -34,7 +34,8 @@ namespace fs = std::filesystem;
 using json = nlohmann::json;
 
 // A floor (grey, facing +y) and a wall (red, facing +x) in millimetres under a 1 cd point source,
-// with a 4 × 3 probe grid whose name needs quoting in CSV, and a single probe point.
+// with a 4 × 3 probe grid whose name needs quoting in CSV, and a single probe point that measures
+// cylindrical illuminance (a vertical cylinder, axis +y).
 constexpr const char* kScene = R"({"lambert": 1, "name": "export-test", "units": "mm",
   "spectrum": {"mode": "spectral", "wavelengths_nm": [450, 550, 650]},
   "materials": {"grey": {"reflectance": 0.5},
@@ -44,7 +45,7 @@ constexpr const char* kScene = R"({"lambert": 1, "name": "export-test", "units":
   "lights": [{"type": "point", "position": [500, 800, 500], "intensity": 1.0}],
   "probes": [{"name": "work, \"plane\"", "grid": {"origin": [100, 1, 100], "u": [800, 0, 0], "v": [0, 0, 800],
                                                 "nu": 4, "nv": 3}, "normal": [0, 1, 0]},
-             {"name": "desk", "position": [500, 500, 500], "normal": [0, 1, 0]}],
+             {"name": "desk", "position": [500, 500, 500], "normal": [0, 1, 0], "quantity": "cylindrical"}],
   "meshing": {"max_patch_area": 20000}})";
 
 struct Solved {
@@ -366,7 +367,7 @@ TEST(ProbeCsv, EveryPointWithItsCellAndExactIlluminance) {
   std::istringstream lines(export_result(s.result_json, ExportFormat::Csv, {}));
   std::string line;
   std::getline(lines, line);
-  EXPECT_EQ(line, "probe,u,v,x,y,z,illuminance_lx\r");
+  EXPECT_EQ(line, "probe,u,v,x,y,z,illuminance_lx,quantity\r");
   std::vector<std::vector<std::string>> rows;
   while (std::getline(lines, line)) {
     ASSERT_FALSE(line.empty());
@@ -375,16 +376,22 @@ TEST(ProbeCsv, EveryPointWithItsCellAndExactIlluminance) {
   }
   ASSERT_EQ(rows.size(), 12u + 1u);
   for (std::size_t q = 0; q < 12; ++q) {
-    ASSERT_EQ(rows[q].size(), 7u);
+    ASSERT_EQ(rows[q].size(), 8u);
     EXPECT_EQ(rows[q][0], "work, \"plane\"");
     EXPECT_EQ(std::stoi(rows[q][1]), int(q % 4));
     EXPECT_EQ(std::stoi(rows[q][2]), int(q / 4));
     // Grid probes sample cell centres (SPEC §5): x = 100 + (u + ½) · 800 / 4 mm.
     EXPECT_NEAR(std::strtod(rows[q][3].c_str(), nullptr), 100 + (q % 4 + 0.5) * 200, 1e-9);
     EXPECT_EQ(std::strtod(rows[q][6].c_str(), nullptr), s.report.probes[0].illuminance_lx[q]);
+    EXPECT_EQ(rows[q][7], "planar");  // the default
   }
   EXPECT_EQ(rows[12][0], "desk");
   EXPECT_EQ(std::strtod(rows[12][6].c_str(), nullptr), s.report.probes[1].illuminance_lx[0]);
+  EXPECT_EQ(rows[12][7], "cylindrical");
+  // A result written without quantities (before they existed) reads as planar.
+  json old = json::parse(s.result_json);
+  for (json& p : old["probes"]) p.erase("quantity");
+  EXPECT_NE(export_result(old.dump(), ExportFormat::Csv, {}).find(",planar\r\n"), std::string::npos);
 }
 
 TEST(ExportFormats, NamesAndExtensions) {

@@ -23,12 +23,12 @@ std::string number(double x) {
 }  // namespace
 
 std::string write_probe_csv(const ResultModel& model) {
-  std::string out = "probe,u,v,x,y,z,illuminance_lx\r\n";
+  std::string out = "probe,u,v,x,y,z,illuminance_lx,quantity\r\n";
   for (const ResultProbe& p : model.probes)
     for (std::size_t q = 0; q < p.points.size(); ++q) {
       const std::size_t u = q % static_cast<std::size_t>(p.nu), v = q / static_cast<std::size_t>(p.nu);
       out += field(p.name) + "," + std::to_string(u) + "," + std::to_string(v) + "," + number(p.points[q].x) + "," +
-             number(p.points[q].y) + "," + number(p.points[q].z) + "," + number(p.illuminance_lx[q]) + "\r\n";
+             number(p.points[q].y) + "," + number(p.points[q].z) + "," + number(p.illuminance_lx[q]) + "," + field(p.quantity) + "\r\n";
     }
   return out;
 }

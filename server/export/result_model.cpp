@@ -78,6 +78,10 @@ ResultProbe read_probe(const json& p, const std::string& where) {
   const json& name = member(p, "name", where);
   if (!name.is_string()) fail(where + "/name", "expected a string");
   out.name = name.get<std::string>();
+  if (p.contains("quantity")) {  // results written before probes had quantities are planar
+    if (!p["quantity"].is_string()) fail(where + "/quantity", "expected a string");
+    out.quantity = p["quantity"].get<std::string>();
+  }
   if (p.contains("position")) {
     out.points.push_back(point(p["position"], where + "/position"));
     out.illuminance_lx.push_back(number(member(p, "illuminance_lx", where), where + "/illuminance_lx"));

@@ -29,6 +29,7 @@ struct ResultProbe {
   int nu = 1, nv = 1;
   std::vector<Point3> points;        // scene units
   std::vector<double> illuminance_lx;  // parallel to points
+  std::string quantity = "planar";     // what the probe measures (SPEC §5 "quantity")
 };
 
 struct ResultModel {
