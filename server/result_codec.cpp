@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "server/evaluation_codec.h"
+#include "server/ugr_table_codec.h"
 #include "server/viewfactors/radiant_json.h"
 #include "solver/lights/luminaire.h"
 #include "solver/rgb_model.h"
@@ -65,6 +66,10 @@ json luminaires_json(const Scene& scene) {
                 {"width_m", f.opening.width_m},
                 {"height_m", f.opening.height_m}}},
               {"near_field_distance_m", placed.near_field_distance_m()}};
+    // The catalogue table is for the luminaire as new: the rescale and tilt factor, not maintenance.
+    if (scene.output.ugr_tables)
+      j["ugr_table"] = ugr_table_json(standard_ugr_table(f, m->photometry->distribution,
+                                                         m->candela_scale / m->maintenance_factor));
     out.push_back(std::move(j));
   }
   return out;
@@ -430,7 +435,8 @@ ResultSizeBound result_size_bound(const Scene& scene) {
     // "luminaires": per luminaire its names, the opening's description and 16 numbers.
     if (const auto* m = std::get_if<LuminaireLight>(&light))
       b.fixed_bytes += kElement + static_cast<double>(m->name.size() + m->source.size() +
-                                                      m->photometry->file.opening.description.size()) + kNumber * 16;
+                                                      m->photometry->file.opening.description.size()) +
+                       kNumber * (16 + (scene.output.ugr_tables ? 250 : 0));  // the table's 19 × 10 cells, rooms, sets
   }
   b.fixed_bytes += sources * kElement;
   // The evaluations (evaluation_codec.h): a task summary's line per grid it lists, and per glare

@@ -248,6 +248,8 @@ struct OutputOptions {
   // (solver/pipeline/error_estimate.h); it costs that solve, about a quarter (hierarchical) or a
   // sixteenth (dense) of the first.
   bool error_estimate = false;
+  // Each luminaire's standard UGR table by CIE 190 (solver/ugr_table.h), in the result's "luminaires".
+  bool ugr_tables = false;
 };
 
 struct Scene {

@@ -17,6 +17,7 @@
 #include "solver/photometry/distribution.h"
 #include "solver/radiosity.h"
 #include "solver/report.h"
+#include "solver/ugr_table.h"
 #include "tests/photometric_writer.h"
 
 namespace lambert {
@@ -171,6 +172,48 @@ TEST(LuminaireScene, GlareSeesTheOpeningThroughTheSolve) {
   auto corner = [](double x, double y) { return std::atan(x * y / (0.8 * std::sqrt(x * x + y * y + 0.64))); };
   const double omega = corner(2.3, 0.15) - corner(1.7, 0.15) - corner(2.3, -0.15) + corner(1.7, -0.15);
   EXPECT_NEAR(sources[0]["solid_angle_sr"].get<double>(), omega, 1e-9 * omega);
+}
+
+TEST(LuminaireScene, UgrTablesInTheResult) {
+  // output.ugr_tables: each luminaire's CIE 190 table for its rescaled flux, without the maintenance
+  // factor. Scaling the flux by k scales Σ L² ω by k² and L_b by k, so every cell moves by
+  // 8 log10 k from the file's own table (k = 4 π 2000 lm over the file's integral, about 4); a point
+  // luminaire has none (null).
+  IesSpec spec;
+  spec.vertical = steps(0, 90, 2.5);
+  spec.horizontal = {0};
+  spec.candela = [](double, double v) { return 2000 * std::cos(v * test::kDeg); };
+  spec.width = 0.3, spec.length = 0.6;
+  const std::string text = test::ies_text(spec);
+  json a = luminaire_with({{"ies", text}});
+  a["luminous_flux_lm"] = 4 * kPi * 2000;  // the file integrates to π · 2000 lm
+  a["maintenance_factor"] = 0.8;
+  json b = luminaire_with({{"ies", downlight_ies()}});
+  b["name"] = "P";
+  json doc = json::parse(scene(json::array({a, b})));
+  doc["output"] = {{"ugr_tables", true}};
+  const Scene s = decode_ok(doc.dump());
+  const Solution sol = solve(s);
+  const json result = json::parse(encode_result(s, sol, make_report(s, sol)));
+  const json& table = result["luminaires"][0]["ugr_table"];
+  const auto& photometry = *std::get<LuminaireLight>(s.lights[0]).photometry;
+  const auto own = standard_ugr_table(photometry.file, photometry.distribution, 1);
+  ASSERT_TRUE(own);
+  const double shift = 8 * std::log10(4 * kPi * 2000 / photometry.distribution.flux());
+  EXPECT_EQ(table["method"], "CIE 190:2010");
+  ASSERT_EQ(table["crosswise"].size(), kUgrRooms);
+  EXPECT_NEAR(table["luminous_flux_lm"].get<double>(), 4 * kPi * 2000, 1e-3);
+  for (std::size_t room = 0; room < kUgrRooms; ++room)
+    for (std::size_t k = 0; k < kUgrReflectances; ++k) {
+      EXPECT_NEAR(table["crosswise"][room][k].get<double>(), *own->crosswise[room][k] + shift, 1e-9);
+      EXPECT_NEAR(table["endwise"][room][k].get<double>(), *own->endwise[room][k] + shift, 1e-9);
+    }
+  EXPECT_EQ(table["rooms"][5], json::array({2, 12}));
+  EXPECT_TRUE(result["luminaires"][1]["ugr_table"].is_null());
+  doc["output"] = json::object();
+  const Scene plain = decode_ok(doc.dump());
+  const Solution plain_sol = solve(plain);
+  EXPECT_FALSE(json::parse(encode_result(plain, plain_sol, make_report(plain, plain_sol)))["luminaires"][0].contains("ugr_table"));
 }
 
 TEST(LuminaireScene, TheBundledFilesReportTheirDeclaredLumens) {

@@ -45,6 +45,8 @@ void decode_output(Decoder& d, const json& o, OutputOptions& output) {
     if (auto b = d.boolean(*v, "/output/view_factors")) output.view_factors = *b;
   if (const json* v = d.member(o, "error_estimate"))
     if (auto b = d.boolean(*v, "/output/error_estimate")) output.error_estimate = *b;
+  if (const json* v = d.member(o, "ugr_tables"))
+    if (auto b = d.boolean(*v, "/output/ugr_tables")) output.ugr_tables = *b;
 }
 
 }  // namespace
@@ -59,7 +61,8 @@ void decode_options(Decoder& d, const json& doc) {
                     {"tolerance", "max_iterations", "method", "accuracy", "exact_visibility"}))
     decode_solver(d, *s, scene.solver);
   const json* o = d.member(doc, "output");
-  if (o && d.object(*o, "/output", {"spectral", "per_source", "view_factors", "error_estimate"})) decode_output(d, *o, scene.output);
+  if (o && d.object(*o, "/output", {"spectral", "per_source", "view_factors", "error_estimate", "ugr_tables"}))
+    decode_output(d, *o, scene.output);
 }
 
 }  // namespace lambert::codec

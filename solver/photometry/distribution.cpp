@@ -176,6 +176,15 @@ double PhotometricDistribution::band(double phi, double theta1, double theta2) c
   return (1 - t) * here + t * (plane_integral(k + 1, theta2) - plane_integral(k + 1, theta1));
 }
 
+double PhotometricDistribution::cap_flux(double theta_c) const {
+  const std::size_t P = phi_.size();
+  if (P == 1) return 2 * kPi * plane_integral(0, theta_c);
+  double sum = 0;
+  for (std::size_t k = 0; k + 1 < P; ++k)
+    sum += 0.5 * (phi_[k + 1] - phi_[k]) * (plane_integral(k, theta_c) + plane_integral(k + 1, theta_c));
+  return sum;
+}
+
 void PhotometricDistribution::finish() {
   const std::size_t W = theta_.size(), P = phi_.size();
   F_.assign(P * W, 0.0);

@@ -46,6 +46,9 @@ class PhotometricDistribution {
   double band(double phi, double theta1, double theta2) const;
   // ∫ I dω over the sphere [lm], exact for the interpolant.
   double flux() const { return flux_; }
+  // ∫ I dω over the cap θ ≤ θ_c about the polar axis [lm], exact for the interpolant (the planes'
+  // integrals to θ_c, combined as flux() combines their full integrals).
+  double cap_flux(double theta_c) const;
   double max_intensity() const { return max_; }
   // The azimuths of the web's planes (radians, as the web lists them) and the largest polar angle
   // with light, for the polar integral's breakpoints.
