@@ -176,8 +176,9 @@ class PhongEmitterModel final : public LightModel {
     return double_axis_moment(p, part, -lobe_.axis, np, static_cast<int>(lobe_.exponent) - 1);
   }
 
-  // ∫_t τ^{n−1,1} dA (= ∫∫ cos^n ψ cos α / r² dA_q dA_p, as emitter_integral) over the receiver's part in front of the emitter (where that plane cuts t, the
-  // pieces in front: the integrand has no kink inside them), by the form factors' adaptive cubature.
+  // ∫_t τ^{n−1,1} dA (= ∫∫ cos^n ψ cos α / r² dA_q dA_p, as emitter_integral) over the receiver's part
+  // in front of the emitter (where that plane cuts t, the pieces in front: the integrand has no kink
+  // inside them), by the form factors' adaptive cubature.
   double receiver_integral(const Triangle& t, const Vector3& nt) const {
     auto f = [&](const Point3& p) {
       std::array<Point3, 4> part;
