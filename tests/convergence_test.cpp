@@ -136,6 +136,22 @@ TEST(RefinementLadder, TighterAccuracyConvergesAtAFixedMesh) {
   }
 }
 
+TEST(ErrorEstimate, ADarkSceneStatesNoChange) {
+  // Nothing emits: every irradiance is 0 at both levels, and the relative changes are 0, not 0/0.
+  for (const SolverMethod method : {SolverMethod::Dense, SolverMethod::Hierarchical}) {
+    Scene scene = room(150, method);
+    for (Surface& s : scene.surfaces) s.emission.reset();
+    scene.output.error_estimate = true;
+    const Solution sol = solve(scene);
+    ASSERT_TRUE(sol.stats.error_estimate.has_value());
+    EXPECT_EQ(sol.stats.error_estimate->surface_irradiance_max, 0.0);
+    EXPECT_EQ(sol.stats.error_estimate->probe_irradiance_rms, 0.0);
+    EXPECT_EQ(sol.stats.error_estimate->probe_irradiance_max, 0.0);
+    EXPECT_GT(sol.stats.error_estimate->coarse_patches, 0u);
+    EXPECT_LT(sol.stats.error_estimate->coarse_patches, sol.patches.size());
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(BothMethods, RefinementLadder,
                          ::testing::Values(SolverMethod::Dense, SolverMethod::Hierarchical),
                          [](const auto& info) { return std::string(method_name(info.param)); });

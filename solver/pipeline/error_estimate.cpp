@@ -32,9 +32,11 @@ std::vector<double> surface_means(const Solution& sol, std::size_t surfaces) {
 
 // A relative change; values below 1e-9 of the set's largest (a shadowed point, an unlit surface)
 // are measured against that floor instead of themselves, so that a change of nothing into nearly
-// nothing does not read as an error of order one.
+// nothing does not read as an error of order one. No change is 0, also in a set that is all dark.
 double relative_change(double fine, double coarse, double floor) {
-  return std::abs(fine - coarse) / std::max(std::abs(fine), floor);
+  const double change = std::abs(fine - coarse);
+  const double scale = std::max(std::abs(fine), floor);
+  return change == 0 || !(scale > 0) ? 0.0 : change / scale;
 }
 
 }  // namespace
