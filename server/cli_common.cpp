@@ -17,6 +17,14 @@ bool read_text_file(const std::string& path, std::string& text) {
   return static_cast<bool>(in) || in.eof();
 }
 
+bool write_text_file(const std::string& command, const std::string& path, std::string_view bytes) {
+  std::ofstream out(path, std::ios::binary);
+  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  if (out) return true;
+  std::cerr << "lambert " << command << ": cannot write " << path << "\n";
+  return false;
+}
+
 FileAccess command_line_file_access(const std::string& scene_path) {
   FileAccess files;
   files.policy = FileAccess::Policy::Anywhere;

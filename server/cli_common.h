@@ -1,8 +1,9 @@
-// Pieces the `lambert` subcommands share: reading a file, and decoding a scene file with its errors.
+// Pieces the `lambert` subcommands share: reading and writing a file, and decoding a scene file with its errors.
 #pragma once
 
 #include <optional>
 #include <string>
+#include <string_view>
 
 #include "server/cli_parser.h"
 #include "server/scene_codec.h"
@@ -12,6 +13,9 @@ namespace lambert {
 
 // Whole file as bytes; false if it cannot be read.
 bool read_text_file(const std::string& path, std::string& text);
+// Writes `bytes` to the file at `path` (created or replaced); when that fails, prints
+// "lambert COMMAND: cannot write PATH" to stderr and returns false.
+bool write_text_file(const std::string& command, const std::string& path, std::string_view bytes);
 
 // How a scene read from the command line reaches its "file" surfaces: anywhere, relative paths
 // against the scene file's directory.

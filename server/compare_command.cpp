@@ -9,7 +9,6 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <numeric>
 #include <sstream>
@@ -334,12 +333,7 @@ int run_compare(const CompareArgs& args) {
                 comparison.time_spectral_s, comparison.time_rgb_s);
     std::fflush(stdout);
     if (!output_path.empty()) {
-      std::ofstream out(output_path, std::ios::binary);
-      out << encode_comparison(*spectral, comparison) << "\n";
-      if (!out) {
-        std::cerr << "lambert compare-rgb: cannot write " << output_path << "\n";
-        return 1;
-      }
+      if (!write_text_file("compare-rgb", output_path, encode_comparison(*spectral, comparison) + "\n")) return 1;
       std::cout << "report written to " << output_path << "\n";
     }
   } catch (const SolveError& e) {

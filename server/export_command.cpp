@@ -1,7 +1,6 @@
 // `lambert export RESULT.json -o OUT.glb|OUT.ply|OUT.csv` (SPEC §3): a result in an exchange format
 // (server/export/export_formats.h), chosen by the output's extension or --format. Exit status: 0
 // written, 1 the file could not be written, 2 bad usage or a file that is not a result.
-#include <fstream>
 #include <iostream>
 #include <memory>
 #include <string>
@@ -37,12 +36,7 @@ int run_export(const ExportArgs& args) {
     std::cerr << "lambert export: " << args.input << ": " << e.what() << " (a result of lambert solve is expected)\n";
     return 2;
   }
-  std::ofstream out(args.output, std::ios::binary);
-  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-  if (!out) {
-    std::cerr << "lambert export: cannot write " << args.output << "\n";
-    return 1;
-  }
+  if (!write_text_file("export", args.output, bytes)) return 1;
   std::cout << "wrote " << args.output << " (" << export_format_name(*format) << ", " << bytes.size() << " bytes)\n";
   return 0;
 }

@@ -3,7 +3,6 @@
 // written, 2 bad usage, a file that does not read, or one without a luminous area.
 #include <cctype>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <memory>
 #include <string>
@@ -51,13 +50,7 @@ int run_ugr_table(const UgrTableArgs& args) {
     std::cout << out;
     return 0;
   }
-  std::ofstream file(args.output, std::ios::binary);
-  file << out;
-  if (!file) {
-    std::cerr << "lambert ugr-table: cannot write " << args.output << "\n";
-    return 1;
-  }
-  return 0;
+  return write_text_file("ugr-table", args.output, out) ? 0 : 1;
 }
 
 }  // namespace
