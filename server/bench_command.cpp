@@ -135,6 +135,22 @@ double surface_mean_irradiance(const Report& r, const std::string& name) {
 
 double peak_rss_mb();
 
+// The 6 x 4 x 3 m room of the CIE 171-style cases: every surface of reflectance rho, a 1 m² panel
+// (L = 1 W m^-2 sr^-1 nm^-1) 1 mm below the ceiling facing down, and nu x nv sensors 1 cm above the
+// floor facing up.
+constexpr double kPanelRoomArea = 2 * (24 + 18 + 12) + 1;
+json panel_room(const std::string& name, double rho, int nu, int nv) {
+  json s = {{"name", name},
+            {"spectrum", {{"mode", "spectral"}, {"wavelengths_nm", {555}}}},
+            {"materials", {{"wall", {{"reflectance", rho}}}}}};
+  s["surfaces"] = {{{"name", "room"}, {"material", "wall"}, {"mesh", box({0, 0, 0}, {6, 4, 3}, true)}},
+                   {{"name", "panel"}, {"material", "wall"}, {"polygon", rect({2.5, 1.5, 2.999}, {0, 1, 0}, {1, 0, 0})},
+                    {"emission", {{"radiance", 1.0}}}}};
+  s["probes"] = {{{"name", "sensors"}, {"normal", {0, 0, 1}},
+                  {"grid", {{"origin", {0, 0, 0.01}}, {"u", {6, 0, 0}}, {"v", {0, 4, 0}}, {"nu", nu}, {"nv", nv}}}}};
+  return s;
+}
+
 std::vector<Case> cases() {
   std::vector<Case> out;
   const json one_wavelength = {{"mode", "spectral"}, {"wavelengths_nm", {555}}};
@@ -173,13 +189,8 @@ std::vector<Case> cases() {
   {
     // CIE 171-style: a 6 x 4 x 3 m room with black surfaces, a 1 m² Lambertian ceiling panel (L = 1
     // W m^-2 sr^-1 nm^-1), 384 sensors 1 cm above the floor: E = π L F(point -> panel), exact (B-3).
-    json s = {{"name", "cie-room-direct"}, {"spectrum", one_wavelength}, {"materials", {{"black", {{"reflectance", 0}}}}}};
-    s["surfaces"] = {{{"name", "room"}, {"material", "black"}, {"mesh", box({0, 0, 0}, {6, 4, 3}, true)}},
-                     {{"name", "panel"}, {"material", "black"}, {"polygon", rect({2.5, 1.5, 2.999}, {0, 1, 0}, {1, 0, 0})},
-                      {"emission", {{"radiance", 1.0}}}}};
-    s["probes"] = {{{"name", "sensors"}, {"normal", {0, 0, 1}},
-                    {"grid", {{"origin", {0, 0, 0.01}}, {"u", {6, 0, 0}}, {"v", {0, 4, 0}}, {"nu", 24}, {"nv", 16}}}}};
-    out.push_back({"cie-room-direct", "rms sensor E vs pi L F (B-3)", s, 2 * (24 + 18 + 12) + 1,
+    const json s = panel_room("cie-room-direct", 0, 24, 16);
+    out.push_back({"cie-room-direct", "rms sensor E vs pi L F (B-3)", s, kPanelRoomArea,
                    [](const Scene& scene, const Solution& sol, const Report&) {
                      double sum = 0;
                      const auto& pts = scene.probes.at(0).points;
@@ -216,13 +227,8 @@ std::vector<Case> cases() {
     // four times the finest rung's patches (edges half as long), so the error column is the rung's
     // error up to that reference's own, about a quarter to a half of it. Here the patches' error is
     // what is measured, and the estimate's bound is put to the test.
-    json s = {{"name", "room-interreflection"}, {"spectrum", one_wavelength}, {"materials", {{"grey", {{"reflectance", 0.5}}}}}};
-    s["surfaces"] = {{{"name", "room"}, {"material", "grey"}, {"mesh", box({0, 0, 0}, {6, 4, 3}, true)}},
-                     {{"name", "panel"}, {"material", "grey"}, {"polygon", rect({2.5, 1.5, 2.999}, {0, 1, 0}, {1, 0, 0})},
-                      {"emission", {{"radiance", 1.0}}}}};
-    s["probes"] = {{{"name", "sensors"}, {"normal", {0, 0, 1}},
-                    {"grid", {{"origin", {0, 0, 0.01}}, {"u", {6, 0, 0}}, {"v", {0, 4, 0}}, {"nu", 12}, {"nv", 8}}}}};
-    const double area = 2 * (24 + 18 + 12) + 1;
+    const json s = panel_room("room-interreflection", 0.5, 12, 8);
+    const double area = kPanelRoomArea;
     auto reference = std::make_shared<std::vector<double>>();
     out.push_back({"room-interreflection", "rms sensor E vs dense, 4x patches", s, area,
                    [s, area, reference](const Scene&, const Solution& sol, const Report&) {
