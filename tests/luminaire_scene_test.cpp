@@ -148,18 +148,24 @@ TEST(LuminaireScene, ProbeLuxThroughTheSolveIsTheClosedForm) {
   EXPECT_EQ(l["photometry_type"], "C");
 }
 
+// A Lambertian 0.6 × 0.3 m opening, I = 2000 cos γ cd (LM-63 length 0.6 along C0, width 0.3),
+// tabulated every `step_deg` degrees of γ.
+std::string lambertian_opening_ies(double step_deg) {
+  IesSpec spec;
+  spec.vertical = steps(0, 90, step_deg);
+  spec.horizontal = {0};
+  spec.candela = [](double, double v) { return 2000 * std::cos(v * test::kDeg); };
+  spec.width = 0.3, spec.length = 0.6;
+  return test::ies_text(spec);
+}
+
 TEST(LuminaireScene, GlareSeesTheOpeningThroughTheSolve) {
   // A Lambertian 0.6 × 0.3 m opening (I = 2000 cos γ, LM-63 length 0.6 along C0, width 0.3) at
   // z = 2 seen by an observer at (−2, 0, 1.2) looking along +x: UGR's source is the opening with
   // L = I0 / A = 2000 / 0.18 cd/m² and the solid angle of the rectangle 1.7 ≤ x ≤ 2.3, |y| ≤ 0.15 in
   // the plane h = 0.8 above the eye (the corner formula atan(x y / (h √(x² + y² + h²))) by
   // superposition).
-  IesSpec spec;
-  spec.vertical = steps(0, 90, 0.25);
-  spec.horizontal = {0};
-  spec.candela = [](double, double v) { return 2000 * std::cos(v * test::kDeg); };
-  spec.width = 0.3, spec.length = 0.6;
-  json doc = json::parse(scene(json::array({luminaire_with({{"ies", test::ies_text(spec)}})})));
+  json doc = json::parse(scene(json::array({luminaire_with({{"ies", lambertian_opening_ies(0.25)}})})));
   doc["glare"] = json::array({{{"name", "desk"}, {"position", {-2, 0, 1.2}}, {"view", {1, 0, 0}}, {"up", {0, 0, 1}}}});
   const Scene s = decode_ok(doc.dump());
   const Solution sol = solve(s);
@@ -179,12 +185,7 @@ TEST(LuminaireScene, UgrTablesInTheResult) {
   // factor. Scaling the flux by k scales Σ L² ω by k² and L_b by k, so every cell moves by
   // 8 log10 k from the file's own table (k = 4 π 2000 lm over the file's integral, about 4); a point
   // luminaire has none (null).
-  IesSpec spec;
-  spec.vertical = steps(0, 90, 2.5);
-  spec.horizontal = {0};
-  spec.candela = [](double, double v) { return 2000 * std::cos(v * test::kDeg); };
-  spec.width = 0.3, spec.length = 0.6;
-  const std::string text = test::ies_text(spec);
+  const std::string text = lambertian_opening_ies(2.5);
   json a = luminaire_with({{"ies", text}});
   a["luminous_flux_lm"] = 4 * kPi * 2000;  // the file integrates to π · 2000 lm
   a["maintenance_factor"] = 0.8;
