@@ -1,0 +1,33 @@
+// The angular factor of clear glass (SPEC §5 "Glazing", docs/METHOD.md "Clear glass"): a pane of
+// "transmission": "specular" passes τ(λ, θ) = τ(λ) g(θ) of a ray that meets it at θ from its normal,
+// τ(λ) the normal-incidence transmittance the material gives and g the pane's angular dependence,
+// normalised to g(0) = 1.
+//
+// g is that of a clear, non-absorbing slab of refractive index n = 1.52 (soda-lime float glass) in
+// air, unpolarised light, with the multiple reflections between its two faces summed: per
+// polarisation the slab passes (1 − r)/(1 + r) of a ray, r the Fresnel reflectance of one face
+// (Duffie & Beckman, Solar Engineering of Thermal Processes, 4th ed. 2013, eq. 5.1.8 with N = 1; the
+// Fresnel amplitudes as in Hecht, Optics, §4.6), and unpolarised light is the mean of the s and p
+// parts:
+//   τ_r(θ) = ½ [(1 − r_s)/(1 + r_s) + (1 − r_p)/(1 + r_p)],   g(θ) = τ_r(θ) / τ_r(0),
+//   τ_r(0) = 2n / (n² + 1) = 0.91839 for n = 1.52.
+// A pane's absorption lengthens with the path in the glass (1/cos θ_t), which steepens g a little
+// beyond 60°; for clear glass (τ(0) ≥ 0.8) that is under 1 % of g below 60° and is not modelled.
+#pragma once
+
+namespace lambert {
+
+inline constexpr double kPaneRefractiveIndex = 1.52;
+
+// τ_r(θ) of a non-absorbing slab of index n in air at the incidence cosine c (above).
+double slab_transmittance(double cos_theta, double n);
+
+// g at the cosine of the angle of incidence (either side of the pane: |cos θ| is used): 1 at
+// normal incidence, falling to 0 at grazing incidence.
+double pane_angular_factor(double cos_theta);
+
+// The hemispherical (cosine-weighted) mean of g, ḡ = 2 ∫₀^{π/2} g(θ) cos θ sin θ dθ = ∫₀¹ 2 c g(c) dc:
+// what a pane passes of Lambertian (diffuse) light per unit of τ(λ). 0.92171 for n = 1.52.
+double pane_hemispherical_factor();
+
+}  // namespace lambert
