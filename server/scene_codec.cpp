@@ -71,6 +71,7 @@ DecodeResult walk(Decoder& d, const json& doc) {
   codec::decode_materials(d, doc);
   codec::decode_surfaces(d, doc);
   codec::decode_lights(d, doc);
+  codec::check_clear_glass(d);
   codec::decode_probes(d, doc);
   codec::decode_options(d, doc);
   codec::decode_evaluations(d, doc);

@@ -78,9 +78,11 @@ using BatchOperator =
 // row r's face i = row[r] passes on τ_i Σ_j P_ij H_j, where P_ij (entries [start[r], start[r+1]) of
 // col and weight) is the share of face i's area that lies on face j of the other side. With it the
 // systems are (I − diag(ρ_k) F − diag(τ_k) P F) B_k = b_k: a face's radiosity is ρ H of its own
-// irradiance plus τ P H of its twin's.
+// irradiance plus τ P H of its twin's. A clear pane's row (rays_carry_direct) passes on only the
+// twin's interreflected irradiance: the sources' direct light crosses it by rays (glazing.h).
 struct PaneTransfer {
   std::vector<int> row;
+  std::vector<char> rays_carry_direct;  // per row
   std::vector<std::size_t> start{0};
   std::vector<int> col;
   std::vector<double> weight;

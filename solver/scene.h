@@ -31,8 +31,10 @@ struct SpecularLobe {
 
 // How a pane of zero thickness passes the light it does not reflect or absorb (SPEC §5 "Glazing",
 // solver/pipeline/panes.h). Diffuse: each face re-emits, as a Lambertian emitter, τ(λ) times the
-// irradiance of the other face (opal glass); rays do not cross it.
-enum class Transmission { kNone, kDiffuse };
+// irradiance of the other face (opal glass); rays do not cross it. Specular (clear glass,
+// solver/glazing.h): the sources' rays cross it, τ(λ) g(θ) of each arriving beyond; the light of
+// other patches crosses it as for opal glass, with τ(λ) ḡ (the hemispherical mean of g).
+enum class Transmission { kNone, kDiffuse, kSpecular };
 
 struct Material {
   std::string name;

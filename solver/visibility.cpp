@@ -14,6 +14,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "solver/glazing.h"
+
 namespace lambert {
 namespace {
 
@@ -50,6 +52,13 @@ struct Visibility::Impl {
   double epsilon_m = 0;       // end-point exclusion distance
   double scene_size = 1;      // bounding-box diagonal
   mutable std::atomic<std::uint64_t> rays{0};
+  std::vector<int> pane_channel;  // per occluder (set_specular_panes), or empty
+  std::vector<Vector3> normal;    // per occluder where panes are marked: the unit normal
+
+  ~Impl() {
+    if (scene) rtcReleaseScene(scene);
+    if (estimate_scene) rtcReleaseScene(estimate_scene);
+  }
 
   void occluded(RTCScene in, std::span<const Segment> segments, std::span<std::uint8_t> visible) const;
 
@@ -74,7 +83,7 @@ struct Visibility::Impl {
   }
 };
 
-Visibility::Visibility(std::span<const Triangle> occluders, Estimates estimates) : impl_(std::make_unique<Impl>()) {
+Visibility::Visibility(std::span<const Triangle> occluders, Estimates estimates) : impl_(std::make_shared<Impl>()) {
   RTCDevice device = shared_device();
   Bounds3 bounds;
   for (const Triangle& t : occluders)
@@ -120,11 +129,7 @@ Visibility::Visibility(std::span<const Triangle> occluders, Estimates estimates)
     throw std::runtime_error("Embree failed to build the visibility scene (" + last_embree_error + ")");
 }
 
-Visibility::~Visibility() {
-  if (!impl_) return;
-  if (impl_->scene) rtcReleaseScene(impl_->scene);
-  if (impl_->estimate_scene) rtcReleaseScene(impl_->estimate_scene);
-}
+Visibility::~Visibility() = default;
 
 bool Visibility::visible(const Point3& from, const Point3& to) const {
   set_ftz_daz();
@@ -196,5 +201,56 @@ void Visibility::first_hits(std::span<const Segment> segments, std::span<int> hi
 }
 
 std::uint64_t Visibility::rays_traced() const { return impl_->rays.load(); }
+
+void Visibility::set_specular_panes(std::span<const Triangle> occluders, std::vector<int> channel_of_occluder) {
+  impl_->normal.assign(occluders.size(), Vector3{});
+  for (std::size_t t = 0; t < occluders.size(); ++t)
+    if (channel_of_occluder[t] >= 0) impl_->normal[t] = occluders[t].normal();
+  impl_->pane_channel = std::move(channel_of_occluder);
+}
+
+std::unique_ptr<Visibility> Visibility::through_panes(int channel) const {
+  std::unique_ptr<Visibility> view(new Visibility());
+  view->impl_ = impl_;
+  view->lift_m_ = lift_m_;
+  view->channel_ = channel;
+  return view;
+}
+
+double Visibility::transmitted(const Point3& from, const Point3& to) const {
+  if (channel_ < 0) return visible(from, to) ? 1.0 : 0.0;
+  set_ftz_daz();
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  alignas(16) RTCRayHit rayhit;
+  impl_->fill_ray(from, to, rayhit.ray);
+  const float tfar = rayhit.ray.tfar;
+  rayhit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rtcIntersect1(impl_->scene, &context, &rayhit);
+  impl_->rays.fetch_add(1, std::memory_order_relaxed);
+  if (rayhit.hit.geomID == RTC_INVALID_GEOMETRY_ID) return 0;  // unobstructed: not through a pane
+  const unsigned first = rayhit.hit.primID;
+  if (impl_->pane_channel.empty() || impl_->pane_channel[first] != channel_) return 0;
+  const Vector3 d = to - from;
+  const double len = length(d);
+  const double g = pane_angular_factor(dot(impl_->normal[first], d) / len);
+  // On beyond the pane: past its coincident other face (the same vertices, so the same distance to
+  // within float precision, far below 2 ε).
+  const float t_pane = rayhit.ray.tfar;
+  impl_->fill_ray(from, to, rayhit.ray);
+  rayhit.ray.tnear = t_pane + static_cast<float>(2 * impl_->epsilon_m / len);
+  rayhit.ray.tfar = tfar;
+  rayhit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  if (rayhit.ray.tnear < tfar) {
+    rtcIntersect1(impl_->scene, &context, &rayhit);
+    impl_->rays.fetch_add(1, std::memory_order_relaxed);
+  }
+  if (rayhit.hit.geomID == RTC_INVALID_GEOMETRY_ID) return g;
+  if (impl_->pane_channel[rayhit.hit.primID] >= 0)
+    throw std::invalid_argument(
+        "a ray from a source crosses two specular panes; clear glass is supported where light crosses at most one "
+        "pane (model a double-glazed unit as one pane with the unit's transmittance)");
+  return 0;
+}
 
 }  // namespace lambert

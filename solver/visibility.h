@@ -58,9 +58,25 @@ class Visibility {
 
   std::uint64_t rays_traced() const;  // total since construction (all threads)
 
+  // Clear glass (solver/glazing.h). Marks occluders as specular panes: channel_of_occluder[t] is the
+  // pane channel of occluder t (its material's; −1: opaque), `occluders` the constructor's. Every other method still takes a pane
+  // for opaque; transmitted() of a view (through_panes) lets rays cross it.
+  void set_specular_panes(std::span<const Triangle> occluders, std::vector<int> channel_of_occluder);
+  // A view sharing this Visibility's BVH whose transmitted() counts the rays that cross one pane of
+  // `channel` and nothing else. Kept alive by nothing: the Visibility must outlive its views.
+  std::unique_ptr<Visibility> through_panes(int channel) const;
+  // What share of a ray from `from` to `to` arrives. Not a view: 1 if visible() else 0. A view of
+  // channel c: g(θ) (solver/glazing.h) if the open segment meets exactly one pane, of channel c, at
+  // θ from its normal, and nothing else; else 0 (the unobstructed rays are the Visibility's own).
+  // Throws std::invalid_argument where the segment crosses two panes (a ray loses τ(λ) per pane:
+  // one spectral factor per channel cannot say how many it crossed).
+  double transmitted(const Point3& from, const Point3& to) const;
+
  private:
   struct Impl;
-  std::unique_ptr<Impl> impl_;
+  Visibility() = default;
+  std::shared_ptr<Impl> impl_;  // shared with the views
+  int channel_ = -1;            // a view's pane channel, or −1
   double lift_m_ = 0;  // lift()'s distance, Impl::epsilon_m (inline: the link rays lift two points each)
 };
 

@@ -44,14 +44,15 @@ inline double link_weight(const Point3& p, const Vector3& np, const Point3& q, c
 }
 
 // The running vote of a link's rays: visible share of the kernel weight, and whether the rays traced
-// so far agree.
+// so far agree. A ray's verdict v is the share of it that arrives: 0 or 1, or a clear pane's g(θ)
+// (Visibility::transmitted); the rays agree when all or none arrive.
 struct VisibilityTally {
   double seen = 0, total = 0;
   int visible = 0, traced = 0;
-  void add(double weight, bool v) {
+  void add(double weight, double v) {
     ++traced;
-    visible += v;
-    seen += v ? weight : 0;
+    visible += v > 0;
+    seen += weight * v;
     total += weight;
   }
   bool unanimous() const { return traced > 0 && (visible == 0 || visible == traced); }
@@ -62,7 +63,8 @@ struct VisibilityTally {
 // link stops after the first round whose rays (all so far) are unanimous.
 constexpr std::array<int, 3> visibility_rounds(int first_round) { return {first_round, 16, kMaxVisibilitySamples}; }
 
-// endpoints(k) -> {from, to} for ray k (k < 64); weight(from, to) >= 0. `first_round` rays (4 or 16)
+// endpoints(k) -> {from, to} for ray k (k < 64); weight(from, to) >= 0. Each ray's verdict is
+// Visibility::transmitted (through clear panes in a view, Visibility::through_panes). `first_round` rays (4 or 16)
 // are traced before the first vote. Samples of zero weight
 // (behind either end's horizon: the kernel has already excluded them) are not traced and do not vote:
 // a link whose first samples all lie behind a horizon is not declared hidden by them. Returns 1 when
@@ -75,7 +77,7 @@ double weighted_visible_fraction(const Visibility& vis, Endpoints&& endpoints, W
     for (; k < round_end; ++k) {
       const auto [from, to] = endpoints(k);
       const double w = weight(from, to);
-      if (w > 0) tally.add(w, vis.visible(from, to));
+      if (w > 0) tally.add(w, vis.transmitted(from, to));
     }
     if (tally.unanimous()) break;  // no need to refine
   }

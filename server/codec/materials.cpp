@@ -1,6 +1,8 @@
 // "materials" (SPEC §1): name -> diffuse reflectance spectrum, an optional Phong lobe and, for glazing,
 // a transmittance and how the pane transmits.
+#include <algorithm>
 #include <utility>
+#include <variant>
 
 #include "server/codec/sections.h"
 #include "server/codec/spectra.h"
@@ -37,13 +39,8 @@ void decode_transmission(Decoder& d, const json& m, const std::string& p, Materi
     return;
   }
   if (*kind == "diffuse") material.transmission = Transmission::kDiffuse;
-  else if (*kind == "specular") {
-    // Clear glass passes the sources' rays, attenuated by τ(λ) g(θ) (the angular factor of a pane):
-    // not in this version, whose panes re-emit what crosses them.
-    d.error(p + "/transmission", "\"specular\" (clear glass) is not supported yet; \"diffuse\" (opal glass, "
-                                 "Lambertian re-emission of what crosses the pane) is");
-    return;
-  } else {
+  else if (*kind == "specular") material.transmission = Transmission::kSpecular;
+  else {
     d.error(p + "/transmission", "expected \"specular\" or \"diffuse\", got " + kind->dump());
     return;
   }
@@ -92,6 +89,21 @@ void decode_materials(Decoder& d, const json& doc) {
     decode_transmission(d, m, p, material);
     scene.materials.push_back(std::move(material));
   }
+}
+
+void check_clear_glass(Decoder& d) {
+  const Scene& scene = d.scene();
+  const auto clear = std::find_if(scene.materials.begin(), scene.materials.end(),
+                                  [](const Material& m) { return m.transmission == Transmission::kSpecular; });
+  if (clear == scene.materials.end()) return;
+  // The sky reaches a point by exact integration over the visible part of the dome
+  // (solver/lights/sky_dome.h), which takes every pane for an occluder: a window onto the sky weighted
+  // by τ g(θ) over it is not in this version.
+  for (std::size_t l = 0; l < scene.lights.size(); ++l)
+    if (std::holds_alternative<SkyLight>(scene.lights[l]))
+      d.error(l < scene.light_pointers.size() ? scene.light_pointers[l] : "/lights/" + std::to_string(l),
+              "a sky does not reach through clear glass yet (" + key_ptr("/materials", clear->name) +
+                  "/transmission is \"specular\"); \"diffuse\" (opal glass) panes take the sky");
 }
 
 }  // namespace lambert::codec

@@ -12,6 +12,8 @@ namespace lambert::codec {
 void decode_materials(Decoder& d, const json& doc);  // materials.cpp
 void decode_surfaces(Decoder& d, const json& doc);   // surfaces.cpp (needs the materials)
 void decode_lights(Decoder& d, const json& doc);     // lights/dispatch.cpp
+// Clear glass ("transmission": "specular") with what it does not support yet (materials.cpp).
+void check_clear_glass(Decoder& d);
 void decode_probes(Decoder& d, const json& doc);     // probes.cpp
 // A probe's daylight metrics, read into probe.daylight once its points and normal are read; the
 // lights must be decoded (probe_daylight.cpp). False after an error.

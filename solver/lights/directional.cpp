@@ -19,12 +19,12 @@ class DirectionalLightModel final : public LightModel {
 
   double point_factor(const Point3& p, const Vector3& n, const Visibility& vis) const override {
     const double g = unshadowed_factor(p, n);
-    return g != 0 && vis.visible(p, p + reach(vis)) ? g : 0;
+    return g != 0 ? g * vis.transmitted(p, p + reach(vis)) : 0;
   }
 
   double receiver_factor(const Receiver& r, const Visibility& vis) const override {
     const double g = receiver_weight(r, -light_.direction);
-    return g != 0 && vis.visible(r.point, r.point + reach(vis)) ? g : 0;
+    return g != 0 ? g * vis.transmitted(r.point, r.point + reach(vis)) : 0;
   }
 
   // cos α is constant over a planar patch: the average is cos α times the visible fraction.

@@ -63,7 +63,7 @@ class LuminaireModel final : public LightModel {
   double point_factor(const Point3& p, const Vector3& n, const Visibility& vis) const override {
     if (near(distance(p, placed_.centre()))) return opening_point_factor(placed_, p, n, vis);
     const double g = point_form(p, n);
-    return g != 0 && vis.visible(p, placed_.centre()) ? g : 0;
+    return g != 0 ? g * vis.transmitted(p, placed_.centre()) : 0;
   }
 
   double patch_factor(const Triangle& t, const Visibility& vis) const override {
@@ -87,7 +87,7 @@ class LuminaireModel final : public LightModel {
     if (dist == 0) return 0;
     const Vector3 w = (r.point - placed_.centre()) / dist;  // luminaire to receiver
     const double g = placed_.file_intensity_cd(w) * receiver_weight(r, -w) / (dist * dist);
-    return g != 0 && vis.visible(r.point, placed_.centre()) ? g : 0;
+    return g != 0 ? g * vis.transmitted(r.point, placed_.centre()) : 0;
   }
 
   // Glare (per candela of the file, as S carries the scale): a point luminaire is its intensity

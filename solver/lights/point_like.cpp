@@ -99,7 +99,7 @@ double PointLikeLight::unshadowed_factor(const Point3& p, const Vector3& n) cons
 
 double PointLikeLight::point_factor(const Point3& p, const Vector3& n, const Visibility& vis) const {
   const double g = unshadowed_factor(p, n);
-  return g != 0 && vis.visible(p, light_.position) ? g : 0;
+  return g != 0 ? g * vis.transmitted(p, light_.position) : 0;
 }
 
 double PointLikeLight::receiver_factor(const Receiver& r, const Visibility& vis) const {
@@ -111,7 +111,7 @@ double PointLikeLight::receiver_factor(const Receiver& r, const Visibility& vis)
   const double att = light_.inverse_square ? dist * dist : c.c1 + c.c2 * dist + c.c3 * dist * dist;
   if (!(att > 0)) return 0;
   const double g = cone_lobe_value(lobe_, dot(lobe_.axis, d) / dist) * receiver_weight(r, -d / dist) / att;
-  return g != 0 && vis.visible(r.point, light_.position) ? g : 0;
+  return g != 0 ? g * vis.transmitted(r.point, light_.position) : 0;
 }
 
 GlareView PointLikeLight::glare_view(const Point3& eye, const Visibility& vis) const {

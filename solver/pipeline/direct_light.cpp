@@ -5,6 +5,7 @@
 
 #include <algorithm>
 
+#include "solver/pipeline/clear_panes.h"
 #include "solver/pipeline/panes.h"
 
 namespace lambert {
@@ -96,6 +97,7 @@ DirectLight direct_light(const Scene& scene, const std::vector<Patch>& patches, 
       }
     });
   }
+  add_direct_through_panes(d, scene, patches);
   if (control.cancel && control.cancel->load(std::memory_order_relaxed)) throw SolveCancelled();
   return d;
 }

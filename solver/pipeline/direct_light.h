@@ -35,6 +35,8 @@ struct SourceTerms {
   std::vector<double> E;  // [patch][λ] its direct irradiance
 };
 
+class ClearPanes;
+
 struct DirectLight {
   std::vector<std::unique_ptr<LightModel>> sources;  // scene lights, then the lobed pieces in order
   // [patch][λ] flat: reflectance, Lambertian emission, direct irradiance from every source, and the
@@ -44,6 +46,12 @@ struct DirectLight {
   // transmits), and P, what each pane face gathers of the other face's irradiance.
   std::vector<double> tau;
   PaneTransfer panes;
+  // Clear glass (clear_panes.h): the channels, or null where no pane is clear; per patch and
+  // wavelength the direct irradiance a clear pane's face transmits, from sources of unknown and of
+  // known flux, and per patch whether it is such a face (all three empty without clear panes).
+  std::shared_ptr<const ClearPanes> clear;
+  std::vector<double> transmitted_unknown_flux, transmitted_known_flux;
+  std::vector<char> clear_face;
   bool any_emitter = false;    // some patch emits (Lambertian)
   bool any_reflector = false;  // some patch reflects or transmits at some wavelength (ρ ≠ 0: signed in rgb mode)
   std::vector<SourceTerms> terms;   // with output.per_source: the lights, then the emitting surfaces

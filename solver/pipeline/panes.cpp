@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "mesh/convex2d.h"
+#include "solver/glazing.h"
 
 namespace lambert {
 namespace {
@@ -75,7 +76,9 @@ std::vector<double> patch_transmittance(const Scene& scene, const std::vector<Pa
   for (std::size_t i = 0; i < patches.size(); ++i) {
     const Material& m = scene.materials[scene.surfaces[patches[i].surface].material];
     if (m.transmission == Transmission::kNone) continue;
-    std::copy_n(m.transmittance.begin(), W, &tau[i * W]);
+    // Clear glass passes the interreflected light, diffuse, with the hemispherical mean of g.
+    const double g = m.transmission == Transmission::kSpecular ? pane_hemispherical_factor() : 1.0;
+    for (std::size_t w = 0; w < W; ++w) tau[i * W + w] = g * m.transmittance[w];
   }
   return tau;
 }
@@ -118,6 +121,8 @@ PaneTransfer pane_transfer(const Scene& scene, const std::vector<Patch>& patches
   for (std::size_t i = 0; i < entries.size(); ++i) {
     if (entries[i].empty()) continue;
     out.row.push_back(static_cast<int>(i));
+    const Transmission kind = scene.materials[scene.surfaces[patches[i].surface].material].transmission;
+    out.rays_carry_direct.push_back(kind == Transmission::kSpecular);
     for (const auto& [j, p] : entries[i]) out.col.push_back(j), out.weight.push_back(p);
     out.start.push_back(out.col.size());
   }

@@ -5,6 +5,8 @@
 
 #include <algorithm>
 
+#include "solver/pipeline/clear_panes.h"
+
 namespace lambert {
 
 Receiver probe_receiver(const Probe& probe, const Point3& point) {
@@ -40,7 +42,7 @@ void solve_probes(Solution& sol, const Scene& scene, const DirectLight& light, c
     const std::size_t P = probe.points.size();
     for (std::size_t set = 0; set < sets; ++set) irradiance(set, k).assign(P * W, 0.0);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, P, 1), [&](const auto& range) {
-      std::vector<double> E(K, 0.0);
+      std::vector<double> E(K, 0.0), through;
       for (std::size_t q = range.begin(); q != range.end(); ++q) {
         const Receiver receiver = probe_receiver(probe, probe.points[q]);
         if (gather) gather->gather_at_point(receiver, E.data());
@@ -49,6 +51,15 @@ void solve_probes(Solution& sol, const Scene& scene, const DirectLight& light, c
           for (std::size_t w = 0; w < W; ++w) e[w] = E[systems.system_of(set, w)];
         }
         for (std::size_t s = 0; s < light.sources.size(); ++s) {
+          // Through clear panes (clear_panes.h), spectral: τ(λ) per pane's channel.
+          auto factor = [&](const Visibility& v) { return light.sources[s]->receiver_factor(receiver, v); };
+          if (light.clear && light.clear->through(*light.sources[s], factor, through)) {
+            double* e = &sol.probes[k].irradiance[q * W];
+            double* own = light.term_of_source[s] >= 0 ? &irradiance(light.term_of_source[s] + 1, k)[q * W] : nullptr;
+            for (std::size_t w = 0; w < W; ++w) e[w] += through[w];
+            if (own)
+              for (std::size_t w = 0; w < W; ++w) own[w] += through[w];
+          }
           const double g = light.sources[s]->receiver_factor(receiver, vis);
           if (g == 0) continue;
           const auto& S = light.sources[s]->spectrum();

@@ -75,7 +75,8 @@ double SpectralSystems::twin_irradiance(std::size_t set, std::size_t w, std::siz
   double H = 0;
   for (std::size_t e = panes_.start[r]; e < panes_.start[r + 1]; ++e) {
     const std::size_t j = static_cast<std::size_t>(panes_.col[e]);
-    H += panes_.weight[e] * (direct(set, w, j) + (gathered ? gathered[j] : 0.0));
+    const double sources = panes_.rays_carry_direct[r] ? 0.0 : direct(set, w, j);
+    H += panes_.weight[e] * (sources + (gathered ? gathered[j] : 0.0));
   }
   return H;
 }
