@@ -146,57 +146,40 @@ void mark_near_probes(const std::vector<Patch>& patches, const std::vector<Probe
 }
 
 // The direct irradiance of each patch, radiometric total Σ_λ w_λ E(λ): from the scene's lights and
-// Phong-lobed emitting patches (LightModel::patch_factor) and from Lambertian emitting patches (the
-// exact area factor times the visible fraction from rays, as in the dense solve). Emitting surfaces
-// are left out where they are more than an eighth of the patches (a furnace: every patch emits),
-// which would make this as costly as the solve itself.
+// from emitting surfaces (LightModel::patch_factor). An emitting surface sends the same radiance from
+// every point of an input triangle, so each emitting input triangle is one source, however finely it
+// is meshed: the exact point value (Lambert's contour integral, or the Phong lobe's moments) over the
+// receiver, times the kernel-weighted visible fraction of the triangle. Taking each emitting patch as
+// a source instead cost N × (emitting patches) exact factors, most of a 49 000-patch room's meshing.
+// Emitting surfaces are left out where they are more than an eighth of the patches (a furnace: every
+// patch emits), whose direct light varies with nothing the refinement should resolve.
 std::vector<double> direct_irradiance_totals(const Scene& scene, const std::vector<Patch>& patches,
                                              const Visibility& vis, const SolveControl& control) {
   const std::size_t N = patches.size(), W = scene.grid.size();
-  auto total = [&](const std::vector<double>& spectrum) {
-    double t = 0;
-    for (std::size_t w = 0; w < W; ++w) t += scene.grid.weight_nm[w] * spectrum[w];
-    return t;
-  };
   std::vector<std::unique_ptr<LightModel>> sources = make_scene_light_models(scene);
-  std::vector<std::size_t> emitters;  // Lambertian emitting patches
-  for (std::size_t i = 0; i < N; ++i)
-    if (scene.surfaces[patches[i].surface].emission) emitters.push_back(i);
-  if (emitters.size() > N / 8) emitters.clear();
-  std::vector<double> exitance(emitters.size());
-  for (std::size_t k = 0; k < emitters.size(); ++k) {
-    const Patch& p = patches[emitters[k]];
-    const Emission& e = *scene.surfaces[p.surface].emission;
-    if (e.lobe_exponent != 1.0) sources.push_back(make_phong_emitter(p.triangle, e.lobe_exponent, e.exitance_W_m2_nm));
-    else exitance[k] = total(e.exitance_W_m2_nm);
+  const std::size_t emitting = static_cast<std::size_t>(std::count_if(
+      patches.begin(), patches.end(), [&](const Patch& p) { return scene.surfaces[p.surface].emission.has_value(); }));
+  if (emitting > 0 && emitting <= N / 8) {
+    const std::vector<Triangle> inputs = input_triangles(scene);
+    std::vector<char> taken(inputs.size(), 0);
+    for (const Patch& p : patches) {
+      const std::optional<Emission>& e = scene.surfaces[p.surface].emission;
+      if (!e || taken[p.input_triangle]) continue;
+      taken[p.input_triangle] = 1;
+      sources.push_back(make_phong_emitter(inputs[p.input_triangle], e->lobe_exponent, e->exitance_W_m2_nm));
+    }
   }
-  std::vector<double> source_total(sources.size());
-  for (std::size_t k = 0; k < sources.size(); ++k) source_total[k] = total(sources[k]->spectrum());
-  const std::vector<Point3> samples = emitters.empty() ? std::vector<Point3>{} : lifted_visibility_samples(patches, vis);
+  std::vector<double> source_total(sources.size(), 0.0);
+  for (std::size_t k = 0; k < sources.size(); ++k) {
+    const std::vector<double>& spectrum = sources[k]->spectrum();
+    for (std::size_t w = 0; w < W; ++w) source_total[k] += scene.grid.weight_nm[w] * spectrum[w];
+  }
   std::vector<double> q(N, 0.0);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, N, 8), [&](const auto& range) {
-    thread_local std::vector<std::size_t> partners;
-    thread_local std::vector<double> unoccluded, fraction;
     for (std::size_t i = range.begin(); i != range.end(); ++i) {
       if (control.cancel && control.cancel->load(std::memory_order_relaxed)) return;
-      const Patch& a = patches[i];
       for (std::size_t k = 0; k < sources.size(); ++k)
-        if (source_total[k] != 0) q[i] += source_total[k] * sources[k]->patch_factor(a.triangle, vis);
-      partners.clear(), unoccluded.clear();
-      for (std::size_t k = 0; k < emitters.size(); ++k) {
-        const Patch& b = patches[emitters[k]];
-        if (exitance[k] == 0 || emitters[k] == i || !any_in_front(a.triangle, a.normal, b.triangle) ||
-            !any_in_front(b.triangle, b.normal, a.triangle))
-          continue;
-        const double g = exchange_area(a.triangle, b.triangle);
-        if (g <= 0) continue;
-        partners.push_back(emitters[k]);
-        unoccluded.push_back(g / a.area_m2 * exitance[k]);
-      }
-      if (partners.empty()) continue;
-      fraction.resize(partners.size());
-      patch_visible_fractions(i, partners, patches, samples, vis, fraction);
-      for (std::size_t l = 0; l < partners.size(); ++l) q[i] += unoccluded[l] * fraction[l];
+        if (source_total[k] != 0) q[i] += source_total[k] * sources[k]->patch_factor(patches[i].triangle, vis);
     }
   });
   if (control.cancel && control.cancel->load(std::memory_order_relaxed)) throw SolveCancelled();

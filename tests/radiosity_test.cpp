@@ -11,7 +11,9 @@
 #include <random>
 #include <vector>
 
+#include "solver/dense/discretise.h"
 #include "solver/form_factor.h"
+#include "solver/patch_refinement.h"
 #include "solver/linear_solve.h"
 #include "tests/scene_builder.h"
 
@@ -411,6 +413,36 @@ TEST(AdaptiveMeshing, DirectRefinementOfHierarchicalLeaves) {
 // a probe 3 cm in front of a wall whose radiosity varies (a point light 0.4 m in front of it) reads
 // the wall's nearest patch almost alone, and a constant patch misplaces its radiosity. Only patches
 // near the probe are split, and the probe comes closer to a uniformly fine mesh's answer.
+// meshing.refine_direct's measure of the direct light (direct_irradiance_totals) takes an emitting
+// surface meshed into many patches as its input triangles: the receiver's area-weighted mean is still
+// M F21, F21 = C-11(1, 1) = 0.1998248957 for opposed unit squares 1 m apart (REFERENCES §0), to the
+// cubature's 1e-6. A black 4 × 4 m floor below keeps the emitting patches under an eighth of all.
+TEST(AdaptiveMeshing, DirectLightOfAMeshedEmitterIsItsInputTriangles) {
+  SceneBuilder b;
+  const int black = b.material("black", 0.0);
+  b.surface("emitter", black, rectangle({0, 0, 1}, {0, 1, 0}, {1, 0, 0}), 2.0);  // faces -z, M = 2
+  b.surface("receiver", black, rectangle({0, 0, 0}, {1, 0, 0}, {0, 1, 0}));
+  b.surface("far floor", black, rectangle({-1.5, -1.5, -5}, {4, 0, 0}, {0, 4, 0}));
+  b.scene().meshing.refine_direct = false;
+  SolveStats stats;
+  const std::vector<Patch> patches = dense_patches(b.scene(), 1.0 / 64, SolveControl{}, stats);
+  const Visibility vis(input_triangles(b.scene()));
+  const std::vector<double> q = direct_irradiance_totals(b.scene(), patches, vis, SolveControl{});
+  double weights = 0;
+  for (double w : b.scene().grid.weight_nm) weights += w;
+  double flux = 0, area = 0;
+  std::size_t emitting = 0;
+  for (std::size_t i = 0; i < patches.size(); ++i) {
+    emitting += patches[i].surface == 0;
+    if (patches[i].surface != 1) continue;
+    flux += q[i] * patches[i].area_m2;
+    area += patches[i].area_m2;
+  }
+  ASSERT_GE(emitting, 64u);
+  const double expected = weights * 2.0 * 0.1998248957;
+  EXPECT_NEAR(flux / area, expected, 1e-6 * expected);
+}
+
 TEST(AdaptiveMeshing, PatchesNextToAProbeAreSplit) {
   const Point3 probe{0.03, 0.3, 0.35};
   auto build = [&](bool refine_direct, double area) {
