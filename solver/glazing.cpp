@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "solver/quadrature_1d.h"
+#include "solver/scene.h"
 
 namespace lambert {
 
@@ -22,6 +23,14 @@ double pane_angular_factor(double cos_theta) {
   if (!(c > 0)) return 0;  // grazing: r_s = r_p = 1
   static const double normal = slab_transmittance(1.0, kPaneRefractiveIndex);
   return slab_transmittance(c, kPaneRefractiveIndex) / normal;
+}
+
+std::vector<int> clear_glass_channels(const Scene& scene) {
+  std::vector<int> out(scene.materials.size(), -1);
+  int count = 0;
+  for (std::size_t m = 0; m < scene.materials.size(); ++m)
+    if (scene.materials[m].transmission == Transmission::kSpecular) out[m] = count++;
+  return out;
 }
 
 double pane_hemispherical_factor() {

@@ -15,12 +15,20 @@
 // beyond 60°; for clear glass (τ(0) ≥ 0.8) that is under 1 % of g below 60° and is not modelled.
 #pragma once
 
+#include <vector>
+
 namespace lambert {
+
+struct Scene;
 
 inline constexpr double kPaneRefractiveIndex = 1.52;
 
 // τ_r(θ) of a non-absorbing slab of index n in air at the incidence cosine c (above).
 double slab_transmittance(double cos_theta, double n);
+
+// Clear glass's channels (solver/pipeline/clear_panes.h): per material of the scene, its index among
+// the clear ("transmission": "specular") materials in order, or −1.
+std::vector<int> clear_glass_channels(const Scene& scene);
 
 // g at the cosine of the angle of incidence (either side of the pane: |cos θ| is used): 1 at
 // normal incidence, falling to 0 at grazing incidence.

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "solver/glazing.h"
 #include "solver/receiver_kernel.h"
 
 namespace lambert {
@@ -32,10 +33,16 @@ SceneLightContext::SceneLightContext(const Scene& scene) {
   const bool needed = std::any_of(scene.lights.begin(), scene.lights.end(),
                                   [](const Light& l) { return std::holds_alternative<SkyLight>(l); });
   if (needed) {
+    const std::vector<int> channel = clear_glass_channels(scene);
+    const bool clear = std::any_of(channel.begin(), channel.end(), [](int c) { return c >= 0; });
     for (const Surface& s : scene.surfaces)
-      for (std::size_t t = 0; t < s.mesh.triangles.size(); ++t) triangles_.push_back(s.mesh.triangle(t));
+      for (std::size_t t = 0; t < s.mesh.triangles.size(); ++t) {
+        triangles_.push_back(s.mesh.triangle(t));
+        if (clear) pane_channel_.push_back(channel[s.material]);
+      }
     solids_ = outward_solids(scene.surfaces);
     context_.solids = &solids_;
+    context_.pane_channel = pane_channel_;
   }
   context_.occluders = triangles_;
   context_.has_scene = true;

@@ -90,6 +90,9 @@ struct LightContext {
   // Whether the context describes the scene (false: the default, for callers that have no scene;
   // a light that needs one then refuses to be made).
   bool has_scene = false;
+  // Per occluder its clear-glass channel (solver/glazing.h: clear_glass_channels), or −1; empty where
+  // no pane is clear.
+  std::span<const int> pane_channel;
 };
 
 std::unique_ptr<LightModel> make_light_model(const Light& light, const LightContext& context = {});
@@ -106,6 +109,7 @@ class SceneLightContext {
 
  private:
   std::vector<Triangle> triangles_;
+  std::vector<int> pane_channel_;
   OutwardSolids solids_;
   LightContext context_;
 };

@@ -71,6 +71,8 @@ class Visibility {
   // Throws std::invalid_argument where the segment crosses two panes (a ray loses τ(λ) per pane:
   // one spectral factor per channel cannot say how many it crossed).
   double transmitted(const Point3& from, const Point3& to) const;
+  // A view's pane channel, or −1 (lights that take no rays, the sky, ask which panes to look through).
+  int channel() const { return channel_; }
 
  private:
   struct Impl;

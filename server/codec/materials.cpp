@@ -1,6 +1,8 @@
 // "materials" (SPEC §1): name -> diffuse reflectance spectrum, an optional Phong lobe and, for glazing,
 // a transmittance and how the pane transmits.
 #include <algorithm>
+#include <cmath>
+#include <optional>
 #include <utility>
 #include <variant>
 
@@ -93,17 +95,28 @@ void decode_materials(Decoder& d, const json& doc) {
 
 void check_clear_glass(Decoder& d) {
   const Scene& scene = d.scene();
-  const auto clear = std::find_if(scene.materials.begin(), scene.materials.end(),
-                                  [](const Material& m) { return m.transmission == Transmission::kSpecular; });
-  if (clear == scene.materials.end()) return;
-  // The sky reaches a point by exact integration over the visible part of the dome
-  // (solver/lights/sky_dome.h), which takes every pane for an occluder: a window onto the sky weighted
-  // by τ g(θ) over it is not in this version.
-  for (std::size_t l = 0; l < scene.lights.size(); ++l)
-    if (std::holds_alternative<SkyLight>(scene.lights[l]))
-      d.error(l < scene.light_pointers.size() ? scene.light_pointers[l] : "/lights/" + std::to_string(l),
-              "a sky does not reach through clear glass yet (" + key_ptr("/materials", clear->name) +
-                  "/transmission is \"specular\"); \"diffuse\" (opal glass) panes take the sky");
+  if (std::none_of(scene.lights.begin(), scene.lights.end(),
+                   [](const Light& l) { return std::holds_alternative<SkyLight>(l); }))
+    return;
+  // The sky through clear glass is weighted by g of the angle to the panes' normal over the window
+  // (solver/lights/sky_dome.h): one normal per clear material.
+  for (std::size_t m = 0; m < scene.materials.size(); ++m) {
+    if (scene.materials[m].transmission != Transmission::kSpecular) continue;
+    std::optional<Vector3> normal;
+    for (const Surface& s : scene.surfaces) {
+      if (s.material != static_cast<int>(m)) continue;
+      for (std::size_t t = 0; t < s.mesh.triangles.size(); ++t) {
+        const Vector3 n = s.mesh.triangle(t).normal();
+        if (!normal) normal = n;
+        if (std::abs(dot(n, *normal)) < 1 - 1e-9) {
+          d.error(key_ptr("/materials", scene.materials[m].name) + "/transmission",
+                  "the sky through clear glass needs the panes of one material parallel; " + s.pointer +
+                      " is not parallel to the others (give each orientation a material of its own)");
+          return;
+        }
+      }
+    }
+  }
 }
 
 }  // namespace lambert::codec

@@ -49,8 +49,13 @@ class SkyLightModel final : public LightModel {
   const std::vector<double>& spectrum() const override { return light_.zenith_radiance_W_m2_sr_nm; }
 
   double unshadowed_factor(const Point3& p, const Vector3& n) const override { return combine(open_.at(p, n)); }
-  double point_factor(const Point3& p, const Vector3& n, const Visibility&) const override { return combine(dome_->at(p, n)); }
-  double patch_factor(const Triangle& t, const Visibility&) const override { return combine(dome_->average(t)); }
+  // A view through clear panes (Visibility::through_panes) asks for the sky its channel's panes show.
+  double point_factor(const Point3& p, const Vector3& n, const Visibility& vis) const override {
+    return combine(vis.channel() < 0 ? dome_->at(p, n) : dome_->through(vis.channel(), p, n));
+  }
+  double patch_factor(const Triangle& t, const Visibility& vis) const override {
+    return combine(vis.channel() < 0 ? dome_->average(t) : dome_->average_through(vis.channel(), t));
+  }
   double flux_factor() const override { return 0; }
   std::string_view kind() const override { return "sky"; }
 
@@ -72,7 +77,8 @@ std::unique_ptr<SkyDome> make_sky_dome(const SkyLight& light, const LightContext
   return std::make_unique<SkyDome>(context.occluders, sky_distribution(light),
                                    solids ? std::span<const int>(solids->solid) : std::span<const int>{},
                                    solids ? std::span<const char>(solids->convex) : std::span<const char>{},
-                                   solids ? std::span<const SolidCap>(solids->cap) : std::span<const SolidCap>{});
+                                   solids ? std::span<const SolidCap>(solids->cap) : std::span<const SolidCap>{},
+                                   context.pane_channel);
 }
 
 std::unique_ptr<LightModel> make_sky_light(const SkyLight& light, const LightContext& context) {

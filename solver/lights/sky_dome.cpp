@@ -1,11 +1,14 @@
 // The sky and the ground seen from a point (see sky_dome.h).
 #include "solver/lights/sky_dome.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
+#include <stdexcept>
 
 #include "mesh/convex2d.h"
 #include "solver/cubature.h"
+#include "solver/glazing.h"
 
 namespace lambert {
 namespace {
@@ -50,10 +53,11 @@ bool inside_convex(const Loop2d& loop, const Point2d& q) {
   return left || right;
 }
 
-}  // namespace
-
-double sky_integral_over_region(const ExactVisibility::VisibleRegion& region, const Point3& p, const Vector3& n,
-                                const SkyDistribution& sky, double abs_tolerance) {
+// ∫ f(ω) (n·ω) dω over the region's loops by the fan cubature (sky_dome.h); `sun`: the direction
+// of f's kink, or null.
+template <class Luminance>
+double region_integral(const ExactVisibility::VisibleRegion& region, const Point3& p, const Vector3& n,
+                       Luminance&& f, const Vector3* sun_kink, double abs_tolerance) {
   const Point3& o = region.origin();
   const Vector3 &e1 = region.e1(), &e2 = region.e2();
   const Vector3 normal = cross(e1, e2);
@@ -64,15 +68,15 @@ double sky_integral_over_region(const ExactVisibility::VisibleRegion& region, co
   auto integrand = [&](const Point3& y) {
     const Vector3 d = y - p;
     const double r2 = length_squared(d), r = std::sqrt(r2);
-    return sky.relative_luminance(d / r) * std::max(0.0, dot(n, d)) * h / (r2 * r2);
+    return f(d / r) * std::max(0.0, dot(n, d)) * h / (r2 * r2);
   };
   // Where the sun's direction meets the plane (in front of p), in the plane's coordinates.
   bool sun_on_plane = false;
   Point2d sun{0, 0};
-  if (sky.has_sun_kink()) {
-    const double towards = dot(sky.sun(), normal), height = dot(o - p, normal);
+  if (sun_kink) {
+    const double towards = dot(*sun_kink, normal), height = dot(o - p, normal);
     if (towards * height > 0) {
-      const Point3 y = p + sky.sun() * (height / towards);
+      const Point3 y = p + *sun_kink * (height / towards);
       sun = {dot(y - o, e1), dot(y - o, e2)};
       sun_on_plane = true;
     }
@@ -96,15 +100,64 @@ double sky_integral_over_region(const ExactVisibility::VisibleRegion& region, co
   return total;
 }
 
+}  // namespace
+
+double sky_integral_over_region(const ExactVisibility::VisibleRegion& region, const Point3& p, const Vector3& n,
+                                const SkyDistribution& sky, double abs_tolerance) {
+  const Vector3 sun = sky.has_sun_kink() ? sky.sun() : Vector3{};
+  return region_integral(
+      region, p, n, [&](const Vector3& w) { return sky.relative_luminance(w); }, sky.has_sun_kink() ? &sun : nullptr,
+      abs_tolerance);
+}
+
+double weighted_integral_over_region(const ExactVisibility::VisibleRegion& region, const Point3& p, const Vector3& n,
+                                     const SkyDistribution& sky, bool ground,
+                                     const std::function<double(const Vector3&)>& weight, double abs_tolerance) {
+  const Vector3 sun = sky.has_sun_kink() ? sky.sun() : Vector3{};
+  auto f = [&](const Vector3& w) { return (ground ? 1.0 : sky.relative_luminance(w)) * weight(w); };
+  return region_integral(region, p, n, f, !ground && sky.has_sun_kink() ? &sun : nullptr, abs_tolerance);
+}
+
+struct SkyDome::Window {
+  std::unique_ptr<ExactVisibility> open;  // every occluder but the channel's panes
+  Vector3 normal;                         // the panes' (up to sign)
+};
+
 SkyDome::SkyDome(std::span<const Triangle> occluders, const SkyDistribution& sky, std::span<const int> solid,
-                 std::span<const char> convex, std::span<const SolidCap> caps)
+                 std::span<const char> convex, std::span<const SolidCap> caps, std::span<const int> pane_channel)
     : exact_(occluders, solid, convex, caps), sky_(sky) {
   exact_.set_inclusion_exclusion_limit(0);
   for (const Triangle& t : occluders)
     for (const Point3& v : t.v) scene_.add(v);
+  int channels = 0;
+  for (int c : pane_channel) channels = std::max(channels, c + 1);
+  for (int c = 0; c < channels; ++c) {
+    std::vector<Triangle> others;
+    auto window = std::make_unique<Window>();
+    bool first = true;
+    for (std::size_t t = 0; t < occluders.size(); ++t) {
+      if (pane_channel[t] != c) {
+        others.push_back(occluders[t]);
+        continue;
+      }
+      const Vector3 m = occluders[t].normal();
+      if (first) window->normal = m, first = false;
+      // g depends on the angle to the pane's normal: one normal per channel (either sign).
+      if (std::abs(dot(m, window->normal)) < 1 - 1e-9)
+        throw std::invalid_argument(
+            "the sky through clear glass needs the panes of one material parallel (give panes of another "
+            "orientation a material of their own)");
+    }
+    window->open = std::make_unique<ExactVisibility>(others);  // no solids: they may hold the panes
+    window->open->set_inclusion_exclusion_limit(0);
+    windows_.push_back(std::move(window));
+  }
 }
 
-SkyFactors SkyDome::at(const Point3& p, const Vector3& n) const {
+SkyDome::~SkyDome() = default;
+
+template <class Visit>
+void SkyDome::visit_box(const Point3& p, const Vector3& n, const ExactVisibility& exact, Visit&& visit) const {
   double reach = 0;
   if (!scene_.empty())
     for (int k = 0; k < 8; ++k) {
@@ -114,23 +167,46 @@ SkyFactors SkyDome::at(const Point3& p, const Vector3& n) const {
   // Every occluder lies within `reach` of p, so inside the box; beyond it by half as much again.
   const double R = 1.5 * std::max(reach, 1e-3 * (1 + length(to_vector(p))));
   const std::array<Triangle, kBoxTriangles> box = box_about(p, sky_.up(), R);
+  for (int k = 0; k < kBoxTriangles; ++k) {
+    const ExactVisibility::VisibleRegion region = exact.visible_region(p, n, box[k]);
+    if (!region.loops().empty()) visit(k >= kSkyTriangles, box[k], region);
+  }
+}
+
+SkyFactors SkyDome::at(const Point3& p, const Vector3& n) const {
   const double abs_tolerance = kRelTolerance * sky_.horizontal_factor();
   SkyFactors out;
-  for (int k = 0; k < kBoxTriangles; ++k) {
-    const ExactVisibility::VisibleRegion region = exact_.visible_region(p, n, box[k]);
-    if (region.loops().empty()) continue;
-    if (k >= kSkyTriangles) {
-      out.ground += kPi * region.factor_of(box[k]);
+  visit_box(p, n, exact_, [&](bool ground, const Triangle& tri, const ExactVisibility::VisibleRegion& region) {
+    if (ground) {
+      out.ground += kPi * region.factor_of(tri);
     } else if (sky_.is_uniform()) {
-      out.sky += kPi * region.factor_of(box[k]);
+      out.sky += kPi * region.factor_of(tri);
     } else {
       out.sky += sky_integral_over_region(region, p, n, sky_, abs_tolerance);
     }
-  }
+  });
   return out;
 }
 
-SkyFactors SkyDome::average(const Triangle& t) const {
+SkyFactors SkyDome::through(int channel, const Point3& p, const Vector3& n) const {
+  const Window& window = *windows_[static_cast<std::size_t>(channel)];
+  const double abs_tolerance = kRelTolerance * sky_.horizontal_factor();
+  const std::function<double(const Vector3&)> g = [&](const Vector3& w) {
+    return pane_angular_factor(dot(w, window.normal));
+  };
+  SkyFactors out;
+  // ∫ over V_c minus ∫ over V (sky_dome.h).
+  for (const double sign : {1.0, -1.0})
+    visit_box(p, n, sign > 0 ? *window.open : exact_,
+              [&](bool ground, const Triangle&, const ExactVisibility::VisibleRegion& region) {
+                const double v = weighted_integral_over_region(region, p, n, sky_, ground, g, abs_tolerance);
+                (ground ? out.ground : out.sky) += sign * v;
+              });
+  return out;
+}
+
+template <class PointFactors>
+SkyFactors SkyDome::average_of(const Triangle& t, PointFactors&& at) const {
   const TriangleRule rule = triangle_rule_degree5();
   const Vector3 n = t.normal();
   SkyFactors out;
@@ -141,6 +217,14 @@ SkyFactors SkyDome::average(const Triangle& t) const {
     out.ground += rule.weights[q] * f.ground;
   }
   return out;
+}
+
+SkyFactors SkyDome::average(const Triangle& t) const {
+  return average_of(t, [&](const Point3& p, const Vector3& n) { return at(p, n); });
+}
+
+SkyFactors SkyDome::average_through(int channel, const Triangle& t) const {
+  return average_of(t, [&](const Point3& p, const Vector3& n) { return through(channel, p, n); });
 }
 
 }  // namespace lambert

@@ -3,20 +3,15 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
-#include <stdexcept>
-#include <variant>
-
+#include "solver/glazing.h"
 #include "solver/pipeline/direct_light.h"
 
 namespace lambert {
 
 ClearPanes::ClearPanes(const Scene& scene) : W_(scene.grid.size()) {
-  std::vector<int> channel_of_material(scene.materials.size(), -1);
+  const std::vector<int> channel_of_material = clear_glass_channels(scene);
   for (std::size_t m = 0; m < scene.materials.size(); ++m)
-    if (scene.materials[m].transmission == Transmission::kSpecular) {
-      channel_of_material[m] = static_cast<int>(tau_.size());
-      tau_.push_back(scene.materials[m].transmittance);
-    }
+    if (channel_of_material[m] >= 0) tau_.push_back(scene.materials[m].transmittance);
   channel_of_surface_.assign(scene.surfaces.size(), -1);
   bool any = false;
   for (std::size_t s = 0; s < scene.surfaces.size(); ++s) {
@@ -24,9 +19,6 @@ ClearPanes::ClearPanes(const Scene& scene) : W_(scene.grid.size()) {
     any |= channel_of_surface_[s] >= 0;
   }
   if (!any) return;
-  for (const Light& light : scene.lights)
-    if (std::holds_alternative<SkyLight>(light))
-      throw std::invalid_argument("a sky does not reach through clear glass (\"transmission\": \"specular\") yet");
   std::vector<int> channel_of_occluder;
   for (std::size_t s = 0; s < scene.surfaces.size(); ++s)
     for (std::size_t t = 0; t < scene.surfaces[s].mesh.triangles.size(); ++t) {

@@ -26,8 +26,6 @@ namespace lambert {
 class ClearPanes {
  public:
   // The scene as solved (with its panes' back faces, panes.h). Empty where no material is clear.
-  // Throws std::invalid_argument for a sky (its exact dome integration takes every pane for an
-  // occluder).
   explicit ClearPanes(const Scene& scene);
   bool empty() const { return views_.empty(); }
 
