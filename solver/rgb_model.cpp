@@ -167,6 +167,8 @@ void reduce_scene_to_rgb(Scene& scene) {
     }
     m.reflectance = to_vector(O);
     if (m.specular) m.specular->reflectance = to_vector(rgb_object_reflectance(m.specular->reflectance, fine));
+    // A pane's τ(λ) filters the light it passes as a reflectance filters what it reflects.
+    if (!m.transmittance.empty()) m.transmittance = to_vector(rgb_object_reflectance(m.transmittance, fine));
   }
 
   auto reduce_source = [&](std::vector<double>& S, const std::string& pointer) {

@@ -164,16 +164,19 @@ TEST(ClearPane, EnergyBalancesWithReflectingAbsorbingAndTransmittingPanes) {
   // passes by rays is computed twice, independently: from the pane (what its face transmits) and at
   // the patches it lands on; the balance holds to their ray estimates (measured: 4e-9 dense, 4e-7
   // hierarchical). Counting the rays' light as absorbed in the pane, as an opaque pane would, is off
-  // by 1.4 % here. Both methods.
+  // by 1.4 % here. Both methods, and the dense one with meshing.adaptive (the pane's faces split
+  // where their irradiance jumps, each on its own).
   const json lights = json::array({{{"type", "point"}, {"position", {2.2, 1.8, 5}}, {"intensity", 40}},
                                    {{"type", "directional"}, {"direction", {0.3, 0.2, -1}}, {"irradiance", 2}},
                                    {{"type", "point"}, {"position", {1, 3, 2}}, {"intensity", 5}}});
-  for (const std::string method : {"dense", "hierarchical"}) {
-    json scene = glazed_room("grey", "glass", lights, {{2, 2, 0}}, method);
+  for (const std::string method : {"dense", "hierarchical", "adaptive"}) {
+    const bool adaptive = method == "adaptive";
+    json scene = glazed_room("grey", "glass", lights, {{2, 2, 0}}, adaptive ? "dense" : method);
     scene["materials"]["glass"] = clear_glass(0.1, {0.7, 0.7, 0.7});
-    scene["meshing"] = {{"max_patch_area", 0.25}, {"refine_direct", false}};
+    scene["meshing"] = {{"max_patch_area", 0.25}, {"refine_direct", false}, {"adaptive", adaptive}};
     const Solution sol = solve_scene(scene);
     EXPECT_GT(sol.stats.absorbed_W, 0) << method;
+    if (adaptive) EXPECT_GT(sol.stats.dense.adaptive_rounds, 0);
     EXPECT_LT(std::abs(sol.stats.relative_imbalance), 1e-5) << method << ": " << sol.stats.emitted_W << " W emitted, "
                                                             << sol.stats.absorbed_W << " absorbed, "
                                                             << sol.stats.escaped_W << " escaped";
@@ -220,6 +223,67 @@ TEST(ClearPane, SkyThroughAGlazedRoofOpeningIsTheOpeningWeightedByTauG) {
       }
       EXPECT_LT(std::abs(result["stats"]["energy"]["relative_imbalance"].get<double>()), 1e-6) << method;
     }
+}
+
+TEST(Panes, InRgbModeFilterAsAReflectanceOfTheSameSpectrum) {
+  // rgb mode reduces a pane's τ(λ) as it reduces a reflectance: a pane of τ(λ) (ρ = 0) and an opaque
+  // tile of reflectance τ(λ) side by side under a vertical beam E give, per channel, B_back = τ_c E_c
+  // (opal) and, at a probe below, τ_c g(0) E_c = τ_c E_c (clear), both equal to the tile's
+  // B = O_c E_c. τ rises from 0.2 at 380 nm to 0.8 at 780 nm, so its three channels differ.
+  const json tau = {{"nm", {380, 780}}, {"values", {0.2, 0.8}}};
+  for (const std::string kind : {"diffuse", "specular"}) {
+    json scene = {{"spectrum", {{"mode", "rgb"}}},
+                  {"materials",
+                   {{"pane", {{"reflectance", 0}, {"transmittance", tau}, {"transmission", kind}}},
+                    {"tile", {{"reflectance", tau}}}}},
+                  {"surfaces", json::array({rectangle("pane", "pane", {-1, -1, 0}, {2, 0, 0}, {0, 2, 0}),
+                                            rectangle("tile", "tile", {5, -1, 0}, {2, 0, 0}, {0, 2, 0})})},
+                  {"lights", json::array({{{"type", "directional"}, {"direction", {0, 0, -1}}, {"irradiance", 3}}})},
+                  {"probes", json::array({probe("below", {0, 0, -1e-3}, {0, 0, 1})})},
+                  {"meshing", {{"max_patch_area", 4}, {"refine_direct", false}}}};
+    const Solution sol = solve_scene(scene);
+    ASSERT_EQ(sol.wavelengths(), 3u);
+    std::vector<double> tile(3, -1), back(3, -1);
+    for (std::size_t i = 0; i < sol.patches.size(); ++i)
+      for (std::size_t c = 0; c < 3; ++c) {
+        if (sol.patches[i].surface == 1) tile[c] = sol.radiosity[i * 3 + c];
+        if (sol.patches[i].surface == 0 && sol.patches[i].normal.z < 0) back[c] = sol.radiosity[i * 3 + c];
+      }
+    EXPECT_GT(tile[0], 1.5 * tile[2]) << kind;  // red passes more than blue
+    for (std::size_t c = 0; c < 3; ++c) {
+      if (kind == "diffuse") EXPECT_NEAR(back[c], tile[c], 1e-12) << c;
+      // Clear: the probe 1 mm below the pane's centre takes the beam through it, and nothing of the
+      // pane's back face (which passes on only interreflected light: none here).
+      if (kind == "specular") EXPECT_NEAR(sol.probes[0].irradiance[c], tile[c], 1e-12) << c;
+    }
+  }
+}
+
+TEST(ClearPane, PerSourceContributionsAddUpThroughIt) {
+  // output.per_source: each source's light through the pane is its own, and the contributions add up
+  // to the joint solution (the radiosity equation is linear in the sources), at the probes and the
+  // patches, to the solver's tolerance (set to 1e-10: each system is solved on its own); the lamp
+  // outside reaches the floor only through the pane.
+  const json lights = json::array({{{"type", "point"}, {"position", {2.2, 1.8, 5}}, {"intensity", 40}},
+                                   {{"type", "directional"}, {"direction", {0.3, 0.2, -1}}, {"irradiance", 2}}});
+  const std::vector<Point3> at = {{2, 2, 0}, {1.7, 2.2, 0}};
+  json scene = glazed_room("grey", "glass", lights, at, "dense");
+  scene["materials"]["glass"] = clear_glass(0.1, {0.3, 0.8, 0.6});
+  scene["output"] = {{"per_source", true}};
+  scene["solver"]["tolerance"] = 1e-10;
+  const Solution sol = solve_scene(scene);
+  ASSERT_EQ(sol.contributions.size(), 2u);
+  const std::size_t W = kNm.size();
+  for (std::size_t k = 0; k < at.size(); ++k)
+    for (std::size_t w = 0; w < W; ++w) {
+      const double sum = sol.contributions[0].probes[k].irradiance[w] + sol.contributions[1].probes[k].irradiance[w];
+      EXPECT_GT(sol.contributions[0].probes[k].irradiance[w], 0) << k << " " << w;
+      EXPECT_NEAR(sum, sol.probes[k].irradiance[w], 1e-8 * sol.probes[k].irradiance[w]) << k << " " << w;
+    }
+  for (std::size_t i = 0; i < sol.patches.size() * W; ++i)
+    EXPECT_NEAR(sol.contributions[0].radiosity[i] + sol.contributions[1].radiosity[i], sol.radiosity[i],
+                1e-8 * sol.radiosity[i])
+        << i;
 }
 
 TEST(ClearPane, WhatItDoesNotTakeIsRefusedByName) {
