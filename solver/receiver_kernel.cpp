@@ -94,6 +94,12 @@ Vector3 region_normal(const Receiver& r, const Vector3& source_normal) {
   return r.kind == Receiver::Kind::Planar ? r.normal : -source_normal;
 }
 
+double exact_visible_factor(const Receiver& r, const Triangle& source, const ExactVisibility& exact) {
+  if (r.kind == Receiver::Kind::Planar) return exact.visible_factor(r.point, r.normal, source);
+  const Vector3 n = source.normal();
+  return receiver_region_factor(r, exact.visible_region(r.point, region_normal(r, n), source), n);
+}
+
 double receiver_region_factor(const Receiver& r, const ExactVisibility::VisibleRegion& region,
                               const Vector3& source_normal) {
   double sum = 0;

@@ -56,6 +56,13 @@ double receiver_region_factor(const Receiver& receiver, const ExactVisibility::V
 // front of the point.
 Vector3 region_normal(const Receiver& receiver, const Vector3& source_normal);
 
+// K over the part of `source` the receiver sees, exactly: for a planar receiver the contour integral
+// over the visible part (ExactVisibility::visible_factor, with its shortcuts for a single occluder or
+// convex solid), for the others receiver_region_factor over visible_region's loops. What both point
+// gathers use for a patch that their rays found partly hidden, where the rays' fraction would carry
+// their noise (1/16 of the patch's share) into the probe.
+double exact_visible_factor(const Receiver& receiver, const Triangle& source, const ExactVisibility& exact);
+
 // The planar decomposition: the receiver's E from the illuminance E(n) of planes through its point,
 //   cylindrical      (1/2π) ∫_0^{2π} E(n(φ)) dφ,        n(φ) ⊥ a
 //   semicylindrical  (1/π) ∫_{−π/2}^{π/2} E(n(φ)) dφ,    φ from f

@@ -296,6 +296,33 @@ TEST(Probes, ObstructedEmitterShadowCuttingPatches) {
   }
 }
 
+// Probes swept across the penumbra of a half-plane blocker (z = 1, x < xe) under a 2 × 2 m Lambertian
+// emitter (z = 2, L = 1): from (px, 0, 0) the blocker hides the emitter where x < 2 xe − px, so
+// E = π F_B-3(rectangle [max(2 xe − px, −1), 1] × [−1, 1] at h = 2) (REFERENCES B-3, V9). Both methods,
+// to 1e-3 of the unobstructed value: the hierarchical gather took emitter elements whole where their
+// 16 rays agreed, and a shadow edge across a small part of one went unseen.
+TEST(Probes, PenumbraOfAHalfPlaneBlockerByBothMethods) {
+  const double xe = 0.0137;
+  const double unobstructed = kPi * test::point_under_rectangle(0, 0, 2, -1, 1, -1, 1);
+  for (SolverMethod method : {SolverMethod::Dense, SolverMethod::Hierarchical}) {
+    SceneBuilder b;
+    const int black = b.material("black", 0.0);
+    b.surface("emitter", black, rectangle({-1, -1, 2}, {0, 2, 0}, {2, 0, 0}), kPi);  // L = 1, faces -z
+    b.surface("blocker", black, rectangle({-3, -3, 1}, {0, 6, 0}, {xe + 3, 0, 0}));
+    std::vector<double> xs;
+    for (int k = 0; k <= 40; ++k) xs.push_back(-0.5 + k * 0.025 + 0.0031);
+    for (double x : xs) b.probe("p", {x, 0.011, 0}, {0, 0, 1});
+    b.max_patch_area(0.01);
+    b.scene().solver.method = method;
+    const Solution sol = solve(b.scene());
+    for (std::size_t k = 0; k < xs.size(); ++k) {
+      const double edge = std::clamp(2 * xe - xs[k], -1.0, 1.0);
+      const double expected = kPi * test::point_under_rectangle(xs[k], 0.011, 2, edge, 1, -1, 1);
+      EXPECT_NEAR(sol.probes[k].irradiance[0], expected, 1e-3 * unobstructed) << method_name(method) << " x = " << xs[k];
+    }
+  }
+}
+
 }  // namespace
 }  // namespace lambert
 

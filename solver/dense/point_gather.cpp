@@ -13,15 +13,6 @@ namespace {
 
 constexpr int kProbeRays = 3 + 16;  // the corners and the interior samples
 
-// The exact factor of the part of `source` the receiver sees: for a planar receiver the contour
-// integral over the visible part (ExactVisibility::visible_factor, with its shortcuts for a single
-// occluder or convex solid), for the others the shared kernel over the visible part's loops.
-double exact_visible_factor(const Receiver& r, const Triangle& source, const ExactVisibility& exact) {
-  if (r.kind == Receiver::Kind::Planar) return exact.visible_factor(r.point, r.normal, source);
-  const Vector3 n = source.normal();
-  return receiver_region_factor(r, exact.visible_region(r.point, region_normal(r, n), source), n);
-}
-
 // The candidates' unoccluded factors (patch, factor > 0) replaced by the visible ones. A planar
 // receiver on a surface is lifted off it along its normal; the others stand in free space.
 void visible_point_triangle_factors(const Receiver& receiver, const std::vector<Patch>& patches,

@@ -110,7 +110,7 @@ void HierarchicalOperator::apply_transpose(const double* w, double* out) const {
 }
 
 std::unique_ptr<PointGather> HierarchicalOperator::point_gather(const std::vector<const double*>& B) const {
-  return std::make_unique<HierarchicalPointGather>(h_, *planes_, *vis_, B, scene_.solver.accuracy);
+  return std::make_unique<HierarchicalPointGather>(h_, *planes_, *vis_, *shafts_, B, scene_.solver.accuracy);
 }
 
 void HierarchicalOperator::report(SolveStats& stats) const {

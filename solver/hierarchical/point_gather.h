@@ -1,6 +1,8 @@
 // The hierarchical method's gather at a point (a probe): a traversal of the hierarchy from the top
 // cluster, taking a cluster or element whole where the error of doing so is within a tolerance, and
-// descending into it otherwise.
+// descending into it otherwise. A leaf that rays find partly hidden takes the exact factor of its
+// visible part, as the dense gather's patches do: the rays' fraction put up to 2 % of noise into floor
+// sensors beside a table's shadow (tools/furnished_room.py, docs/BENCHMARKS.md).
 //
 // A cluster is taken whole where the oracle's bound on its one-point estimate (clusters.h) is within
 // the tolerance, or left out where all it could send is; an element where its radiosity varies little
@@ -10,6 +12,7 @@
 
 #include <vector>
 
+#include "solver/exact_visibility.h"
 #include "solver/hierarchical/hierarchy.h"
 #include "solver/hierarchical/plane_verdicts.h"
 #include "solver/pipeline/transport_operator.h"
@@ -19,8 +22,9 @@ namespace lambert::hierarchical {
 class HierarchicalPointGather final : public PointGather {
  public:
   // B: K radiosity vectors over the leaves.
+  // exact: the input triangles as occluders, for the leaves that rays find partly hidden.
   HierarchicalPointGather(const Hierarchy& h, const PlaneVerdicts& planes, const Visibility& vis,
-                          const std::vector<const double*>& B, double accuracy);
+                          const ExactVisibility& exact, const std::vector<const double*>& B, double accuracy);
   void gather_at_point(const Receiver& receiver, double* E) const override;
 
  private:
@@ -38,6 +42,7 @@ class HierarchicalPointGather final : public PointGather {
   const Hierarchy& h_;
   const PlaneVerdicts& planes_;
   const Visibility& vis_;
+  const ExactVisibility& exact_;
   Hierarchy::Values values_;  // per element and cluster, every system
   // Per element: the subtree's least and largest radiosity over the systems, which decide how deep a
   // point must look into it; per cluster: its largest |B|.
