@@ -12,6 +12,7 @@
 #include "solver/cubature.h"
 #include "solver/form_factor.h"
 #include "solver/light_model.h"
+#include "solver/pipeline/clear_panes.h"
 #include "solver/visible_fraction.h"
 
 namespace lambert {
@@ -152,7 +153,8 @@ void mark_near_probes(const std::vector<Patch>& patches, const std::vector<Probe
 // receiver, times the kernel-weighted visible fraction of the triangle. Taking each emitting patch as
 // a source instead cost N × (emitting patches) exact factors, most of a 49 000-patch room's meshing.
 // Emitting surfaces are left out where they are more than an eighth of the patches (a furnace: every
-// patch emits), whose direct light varies with nothing the refinement should resolve.
+// patch emits), whose direct light varies with nothing the refinement should resolve. Light through
+// clear glass counts (solver/pipeline/clear_panes.h): the sun's patch through a window has edges too.
 std::vector<double> direct_irradiance_totals(const Scene& scene, const std::vector<Patch>& patches,
                                              const Visibility& vis, const SolveControl& control) {
   const std::size_t N = patches.size(), W = scene.grid.size();
@@ -175,11 +177,19 @@ std::vector<double> direct_irradiance_totals(const Scene& scene, const std::vect
     for (std::size_t w = 0; w < W; ++w) source_total[k] += scene.grid.weight_nm[w] * spectrum[w];
   }
   std::vector<double> q(N, 0.0);
+  const ClearPanes clear(scene);  // the light through clear glass (none without it)
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, N, 8), [&](const auto& range) {
+    std::vector<double> through;
     for (std::size_t i = range.begin(); i != range.end(); ++i) {
       if (control.cancel && control.cancel->load(std::memory_order_relaxed)) return;
       for (std::size_t k = 0; k < sources.size(); ++k)
         if (source_total[k] != 0) q[i] += source_total[k] * sources[k]->patch_factor(patches[i].triangle, vis);
+      if (clear.empty()) continue;
+      for (const auto& source : sources) {
+        auto factor = [&](const Visibility& v) { return source->patch_factor(patches[i].triangle, v); };
+        if (clear.through(*source, factor, through))
+          for (std::size_t w = 0; w < W; ++w) q[i] += scene.grid.weight_nm[w] * through[w];
+      }
     }
   });
   if (control.cancel && control.cancel->load(std::memory_order_relaxed)) throw SolveCancelled();

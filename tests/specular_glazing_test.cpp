@@ -322,6 +322,21 @@ TEST(ClearPane, PerSourceContributionsAddUpThroughIt) {
         << i;
 }
 
+TEST(ClearPane, LightThroughItDrivesTheDirectRefinement) {
+  // meshing.refine_direct splits patches where the direct light jumps: the edge of the lamp's light
+  // through the roof window on the floor of the black room. With τ = 0 the floor stays dark and only
+  // the pane's lit face differs from its neighbours, so clear glass refines strictly more.
+  const json lamp = json::array({{{"type", "point"}, {"position", {2, 2, 5}}, {"intensity", 40}}});
+  std::size_t refined[2] = {0, 0};
+  for (const int clear : {0, 1}) {
+    json scene = glazed_room("black", "glass", lamp, {{2, 2, 0}}, "dense");
+    scene["materials"]["glass"] = clear_glass(0.1, std::vector<double>(3, clear ? 0.8 : 0.0));
+    scene["meshing"] = {{"max_patch_area", 0.25}, {"refine_direct", true}};
+    refined[clear] = solve_scene(scene).stats.direct_refinement_patches;
+  }
+  EXPECT_GT(refined[1], refined[0]);
+}
+
 TEST(ClearPane, WhatItDoesNotTakeIsRefusedByName) {
   // A sky through clear panes of one material in two orientations (g is weighted by one normal per
   // material over the window): refused at the material, naming the surface.
