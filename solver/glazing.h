@@ -11,8 +11,10 @@
 // parts:
 //   τ_r(θ) = ½ [(1 − r_s)/(1 + r_s) + (1 − r_p)/(1 + r_p)],   g(θ) = τ_r(θ) / τ_r(0),
 //   τ_r(0) = 2n / (n² + 1) = 0.91839 for n = 1.52.
-// A pane's absorption lengthens with the path in the glass (1/cos θ_t), which steepens g a little
-// beyond 60°; for clear glass (τ(0) ≥ 0.8) that is under 1 % of g below 60° and is not modelled.
+// A pane's absorption lengthens with the path in the glass (1/cos θ_t) and steepens g; it is not
+// modelled (it would make g depend on τ(λ)). For the absorbing slab whose τ(0) is the material's,
+// g is lower than this one's by 0.5 % at 60° and 1.5 % at 80° where τ(0) = 0.9 (clear float glass),
+// by 3.3 % at 60° and 8.8 % at 80° where τ(0) = 0.8.
 #pragma once
 
 #include <vector>
