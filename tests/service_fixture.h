@@ -166,7 +166,7 @@ double probe_lx(const json& result, const std::string& name) {
 // ---- checks -----------------------------------------------------------------------------------------
 
 // Every error is SPEC §4 JSON, and no exception text ever reaches a header (STACK P8).
-json expect_error(const httplib::Result& res, int status, const std::string& code) {
+[[maybe_unused]] json expect_error(const httplib::Result& res, int status, const std::string& code) {
   EXPECT_TRUE(res) << "no response: " << httplib::to_string(res.error());
   if (!res) return {};
   EXPECT_EQ(res->status, status) << res->body.substr(0, 2000);
