@@ -31,6 +31,7 @@
 #include "server/job_store_fs.h"
 
 namespace lambert {
+// The helpers are inline: each test file uses some of them, and an unused inline function does not warn.
 namespace {
 
 
@@ -41,7 +42,7 @@ using namespace std::chrono_literals;
 
 const fs::path kSource = LAMBERT_SOURCE_DIR;
 
-std::string read_text(const fs::path& path) {
+inline std::string read_text(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);
   std::ostringstream s;
   s << in.rdbuf();
@@ -79,7 +80,7 @@ struct ServiceOptions {
     return o;
   }
 };
-ServiceOptions job_options() { return {}; }
+inline ServiceOptions job_options() { return {}; }
 
 class TestServer {
  public:
@@ -120,7 +121,7 @@ class TestServer {
 
 // An isotropic point source of `cd` candela 2 m above a black 2 x 2 m floor; probe "below" right under
 // it (E = I/h² = cd/4 lx) and "side" 1 m off (E = I h/d³ = cd · 2/5^1.5 lx).
-json point_scene(double cd, const std::string& name = "point") {
+inline json point_scene(double cd, const std::string& name = "point") {
   return {{"name", name},
           {"spectrum", {{"mode", "spectral"}, {"from_nm", 380}, {"to_nm", 780}, {"step_nm", 10}}},
           {"materials", {{"black", {{"reflectance", 0}}}}},
@@ -135,14 +136,14 @@ json point_scene(double cd, const std::string& name = "point") {
                                   {{"name", "side"}, {"position", {1, 0, 0}}, {"normal", {0, 1, 0}}}})},
           {"meshing", {{"max_patch_area", 0.05}}}};
 }
-double expected_below(double cd) { return cd / 4; }
-double expected_side(double cd) { return cd * 2 / std::pow(5.0, 1.5); }
+inline double expected_below(double cd) { return cd / 4; }
+inline double expected_side(double cd) { return cd * 2 / std::pow(5.0, 1.5); }
 
 // The closed 4 m room of scenes/reference (reflectance 0.5, a point source inside) cut into about
 // `patches` patches: all of them exchange light, so the solve takes seconds.
 // Several seconds of solving: a closed room with a floating box (its shadows need rays; an empty
 // convex room needs none and solves 3072 patches in about a second).
-json slow_scene(int patches = 4096) {
+inline json slow_scene(int patches = 4096) {
   json scene = json::parse(read_text(kSource / "scenes/reference/closed-room-point.json"));
   scene.erase("expected");
   scene["spectrum"] = {{"mode", "spectral"}, {"from_nm", 400}, {"to_nm", 700}, {"step_nm", 20}};
@@ -156,7 +157,7 @@ json slow_scene(int patches = 4096) {
   return scene;
 }
 
-double probe_lx(const json& result, const std::string& name) {
+inline double probe_lx(const json& result, const std::string& name) {
   for (const auto& p : result.at("probes"))
     if (p.at("name") == name) return p.at("illuminance_lx").get<double>();
   ADD_FAILURE() << "no probe " << name;
@@ -166,7 +167,7 @@ double probe_lx(const json& result, const std::string& name) {
 // ---- checks -----------------------------------------------------------------------------------------
 
 // Every error is SPEC §4 JSON, and no exception text ever reaches a header (STACK P8).
-[[maybe_unused]] json expect_error(const httplib::Result& res, int status, const std::string& code) {
+inline json expect_error(const httplib::Result& res, int status, const std::string& code) {
   EXPECT_TRUE(res) << "no response: " << httplib::to_string(res.error());
   if (!res) return {};
   EXPECT_EQ(res->status, status) << res->body.substr(0, 2000);
@@ -182,7 +183,7 @@ double probe_lx(const json& result, const std::string& name) {
   return e;
 }
 
-json expect_json(const httplib::Result& res, int status) {
+inline json expect_json(const httplib::Result& res, int status) {
   EXPECT_TRUE(res) << "no response: " << httplib::to_string(res.error());
   if (!res) return {};
   EXPECT_EQ(res->status, status) << res->body.substr(0, 2000);
@@ -192,25 +193,25 @@ json expect_json(const httplib::Result& res, int status) {
   return body;
 }
 
-void expect_alive(const TestServer& server) {
+inline void expect_alive(const TestServer& server) {
   auto res = server.client()->Get("/v1/health");
   ASSERT_TRUE(res);
   EXPECT_EQ(res->status, 200);
 }
 
-std::string submit(const TestServer& server, const json& scene) {
+inline std::string submit(const TestServer& server, const json& scene) {
   auto res = server.client()->Post("/v1/jobs", scene.dump(), "application/json");
   const json body = expect_json(res, 202);
   return body.value("id", "");
 }
 
-json job_status(const TestServer& server, const std::string& id) {
+inline json job_status(const TestServer& server, const std::string& id) {
   return expect_json(server.client()->Get("/v1/jobs/" + id), 200);
 }
 
 // Polls until `done(status)` or the timeout; returns the last status.
 template <typename Pred>
-json wait_for(const TestServer& server, const std::string& id, Pred done,
+inline json wait_for(const TestServer& server, const std::string& id, Pred done,
               std::chrono::duration<double> timeout = 120s) {
   const auto t0 = Clock::now();
   json s = job_status(server, id);
@@ -220,16 +221,16 @@ json wait_for(const TestServer& server, const std::string& id, Pred done,
   }
   return s;
 }
-bool is_final(const json& s) {
+inline bool is_final(const json& s) {
   const std::string st = s.value("state", "");
   return st == "done" || st == "failed" || st == "cancelled";
 }
-json wait_final(const TestServer& server, const std::string& id) {
+inline json wait_final(const TestServer& server, const std::string& id) {
   return wait_for(server, id, is_final);
 }
 
 // A request a polite client would not send: raw bytes on a socket; returns what came back.
-std::string raw_request(int port, const std::string& bytes, bool close_write = false) {
+inline std::string raw_request(int port, const std::string& bytes, bool close_write = false) {
   const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
   sockaddr_in addr{};
   addr.sin_family = AF_INET;
@@ -265,10 +266,10 @@ std::string raw_request(int port, const std::string& bytes, bool close_write = f
   ::close(fd);
   return out;
 }
-int raw_status(const std::string& response) {
+inline int raw_status(const std::string& response) {
   return response.size() > 12 && response.rfind("HTTP/1.1 ", 0) == 0 ? std::stoi(response.substr(9, 3)) : -1;
 }
-json raw_body(const std::string& response) {
+inline json raw_body(const std::string& response) {
   const auto head_end = response.find("\r\n\r\n");
   return head_end == std::string::npos ? json() : json::parse(response.substr(head_end + 4), nullptr, false);
 }

@@ -176,7 +176,9 @@ TEST(ClearPane, EnergyBalancesWithReflectingAbsorbingAndTransmittingPanes) {
     scene["meshing"] = {{"max_patch_area", 0.25}, {"refine_direct", false}, {"adaptive", adaptive}};
     const Solution sol = solve_scene(scene);
     EXPECT_GT(sol.stats.absorbed_W, 0) << method;
-    if (adaptive) EXPECT_GT(sol.stats.dense.adaptive_rounds, 0);
+    if (adaptive) {
+      EXPECT_GT(sol.stats.dense.adaptive_rounds, 0);
+    }
     EXPECT_LT(std::abs(sol.stats.relative_imbalance), 1e-5) << method << ": " << sol.stats.emitted_W << " W emitted, "
                                                             << sol.stats.absorbed_W << " absorbed, "
                                                             << sol.stats.escaped_W << " escaped";
@@ -287,10 +289,14 @@ TEST(Panes, InRgbModeFilterAsAReflectanceOfTheSameSpectrum) {
       }
     EXPECT_GT(tile[0], 1.5 * tile[2]) << kind;  // red passes more than blue
     for (std::size_t c = 0; c < 3; ++c) {
-      if (kind == "diffuse") EXPECT_NEAR(back[c], tile[c], 1e-12) << c;
+      if (kind == "diffuse") {
+        EXPECT_NEAR(back[c], tile[c], 1e-12) << c;
+      }
       // Clear: the probe 1 mm below the pane's centre takes the beam through it, and nothing of the
       // pane's back face (which passes on only interreflected light: none here).
-      if (kind == "specular") EXPECT_NEAR(sol.probes[0].irradiance[c], tile[c], 1e-12) << c;
+      if (kind == "specular") {
+        EXPECT_NEAR(sol.probes[0].irradiance[c], tile[c], 1e-12) << c;
+      }
     }
   }
 }
