@@ -246,6 +246,19 @@ TEST(LdtReader, ReadsEverySymmetry) {
   }
 }
 
+// LORL a little above 100 %, as real files state it (100.1 %): read as stated, declared flux
+// LORL × lamp flux = 1.001 × 2 500 lm, with a warning that names the value.
+TEST(LdtReader, LorlRoundedAboveAHundredIsTakenAsStatedWithAWarning) {
+  LdtSpec s;
+  s.isym = 1, s.mc = 1, s.lamp_flux = 2500, s.lorl = 100.1;
+  s.cd_per_klm = [](double, double g) { return 300 + g / 100; };
+  const PhotometricData d = read_ldt(test::ldt_text(s));
+  ASSERT_TRUE(d.declared_output_lm);
+  EXPECT_NEAR(*d.declared_output_lm, 1.001 * 2500, 1e-9);
+  ASSERT_EQ(d.warnings.size(), 1u);
+  EXPECT_NE(d.warnings[0].find("LORL 100.1 % is above 100 %"), std::string::npos) << d.warnings[0];
+}
+
 TEST(LdtReader, AbsolutePhotometryDecimalCommaAndOpening) {
   LdtSpec s;
   s.isym = 1, s.mc = 1, s.lamps = -1, s.lamp_flux = 1800;
@@ -279,7 +292,7 @@ TEST(LdtReader, BrokenFilesNameTheLineAndTheField) {
       {45, "200", "line 45: gamma angle 2: 200 is outside [0, 180]"},
       {46, "80", "line 46: gamma angle 3: 80 does not follow 90 in ascending order"},
       {0, "7", "line 50: more lines follow the 3 intensities that Isym 1, Mc and Ng declare"},
-      {23, "150", "line 23: LORL: 150 is outside [0, 100]"},
+      {23, "150", "line 23: LORL: 150 is outside [0, 101]"},
       {24, "1 2", "line 24: conversion factor: expected one number on the line, got '1 2'"},
       {27, "0", "line 27: lamp set 1: number of lamps: 0 lamps"},
       {29, "-5", "line 29: lamp set 1: total luminous flux: -5 is not positive"},
