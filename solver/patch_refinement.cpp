@@ -150,8 +150,8 @@ void mark_near_probes(const std::vector<Patch>& patches, const std::vector<Probe
 // from emitting surfaces (LightModel::patch_factor). An emitting surface sends the same radiance from
 // every point of an input triangle, so each emitting input triangle is one source, however finely it
 // is meshed: the exact point value (Lambert's contour integral, or the Phong lobe's moments) over the
-// receiver, times the kernel-weighted visible fraction of the triangle. Taking each emitting patch as
-// a source instead cost N × (emitting patches) exact factors, most of a 49 000-patch room's meshing.
+// receiver, times the kernel-weighted visible fraction of the triangle. Each emitting patch as a
+// source would cost N × (emitting patches) exact factors, more than the rest of the meshing.
 // Emitting surfaces are left out where they are more than an eighth of the patches (a furnace: every
 // patch emits), whose direct light varies with nothing the refinement should resolve. Light through
 // clear glass counts (solver/pipeline/clear_panes.h): the sun's patch through a window has edges too.

@@ -64,9 +64,9 @@ double HierarchicalPointGather::element_visibility(const Receiver& r, const Poin
 // it is wholly visible or hidden: the visible part of a partly hidden element need not have its mean
 // radiosity (a probe under a floating cube read 3 % high where partly hidden elements were taken
 // whole). Only the occluder planes prove it wholly visible: where rays decide, an element whose
-// whole share exceeds the tolerance is opened, since 16 agreeing rays miss a shadow edge across a
-// small part of it (floor sensors beside a table's shadow read 2 % low).  A leaf's partly hidden
-// share is the exact factor of its visible part.
+// whole share exceeds the tolerance is opened, since 16 agreeing rays can miss a shadow edge across
+// a small part of it (up to 2 % at floor sensors beside a table's shadow, docs/BENCHMARKS.md). A
+// leaf's partly hidden share is the exact factor of its visible part.
 void HierarchicalPointGather::visit_element(const Receiver& r, const Point3& from, const OccluderPlanes::Sides& sides,
                                             int node, std::vector<int>& stack, double* E) const {
   const Element& S = h_.elements[node];

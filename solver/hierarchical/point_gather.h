@@ -1,8 +1,7 @@
 // The hierarchical method's gather at a point (a probe): a traversal of the hierarchy from the top
 // cluster, taking a cluster or element whole where the error of doing so is within a tolerance, and
 // descending into it otherwise. A leaf that rays find partly hidden takes the exact factor of its
-// visible part, as the dense gather's patches do: the rays' fraction put up to 2 % of noise into floor
-// sensors beside a table's shadow (tools/furnished_room.py, docs/BENCHMARKS.md).
+// visible part, as the dense gather's patches do, so that the rays' noise does not reach the probe.
 //
 // A cluster is taken whole where the oracle's bound on its one-point estimate (clusters.h) is within
 // the tolerance, or left out where all it could send is; an element where its radiosity varies little
