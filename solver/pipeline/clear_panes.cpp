@@ -49,6 +49,10 @@ void add_direct_through_panes(DirectLight& d, const Scene& scene, const std::vec
       const Triangle& tri = patches[i].triangle;
       const int own = clear->channel_of_surface(patches[i].surface);
       d.clear_face[i] = own >= 0;
+      // A face of a clear pane passes on what it sees from just behind it, through its own pane.
+      const Triangle back = own >= 0 ? clear->behind(tri) : tri;
+      const std::vector<double>* tau =
+          own >= 0 ? &scene.materials[scene.surfaces[patches[i].surface].material].transmittance : nullptr;
       for (std::size_t k = 0; k < d.sources.size(); ++k) {
         const LightModel& source = *d.sources[k];
         const bool known = source.flux_factor() > 0;
@@ -61,14 +65,11 @@ void add_direct_through_panes(DirectLight& d, const Scene& scene, const std::vec
           }
         }
         if (own < 0) continue;
-        // What this face passes on: the same source seen from just behind it, through its own pane.
-        const Triangle back = clear->behind(tri);
         const double g = source.kind() == "ambient" ? 0.0 : source.patch_factor(back, clear->view(own));
         if (g == 0) continue;
         const auto& S = source.spectrum();
-        const auto& tau = scene.materials[scene.surfaces[patches[i].surface].material].transmittance;
         double* T = known ? &d.transmitted_known_flux[i * W] : &d.transmitted_unknown_flux[i * W];
-        for (std::size_t w = 0; w < W; ++w) T[w] += g * tau[w] * S[w];
+        for (std::size_t w = 0; w < W; ++w) T[w] += g * (*tau)[w] * S[w];
       }
     }
   });
