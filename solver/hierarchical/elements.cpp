@@ -73,13 +73,18 @@ ElementForest build_forest(const Scene& scene, double max_area, const std::set<T
 
 void mark_enclosed(ElementForest& forest, const std::vector<char>& enclosed_leaf) {
   forest.enclosed.assign(forest.elements.size(), 0);
+  forest.open_area.assign(forest.elements.size(), 0.0);
   for (std::size_t e = forest.elements.size(); e-- > 0;) {  // children come after their parent
     const Element& el = forest.elements[e];
     if (el.first_child < 0) {
       forest.enclosed[e] = enclosed_leaf[static_cast<std::size_t>(el.leaf)];
+      forest.open_area[e] = forest.enclosed[e] ? 0.0 : el.area;
     } else {
       forest.enclosed[e] = 1;
-      for (int k = 0; k < 4; ++k) forest.enclosed[e] = forest.enclosed[e] && forest.enclosed[el.first_child + k];
+      for (int k = 0; k < 4; ++k) {
+        forest.enclosed[e] = forest.enclosed[e] && forest.enclosed[el.first_child + k];
+        forest.open_area[e] += forest.open_area[el.first_child + k];
+      }
     }
   }
 }

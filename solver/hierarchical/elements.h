@@ -57,9 +57,27 @@ struct ElementForest {
   // under a crate). Such elements take no links, and wholly enclosed roots are left out of the
   // clusters, so that they neither send nor receive through them. Empty: none known.
   std::vector<char> enclosed;
+  // Per element, where some leaf is enclosed (empty: none): the area of its leaves that are not. The
+  // enclosed part of an element is hidden from every link (its rays meet back faces), so the flux an
+  // element gathers lands on its open part only, and what it sends is its open part's mean radiosity
+  // (Hierarchy::apply, pull). Spread over the whole element, the flux that fell on the enclosed part
+  // was lost: in a room with a ceiling panel 1 mm under the ceiling, 8e-4 of the power, and every
+  // surface's irradiance was that much low.
+  std::vector<double> open_area;
 
   bool has_children(int e) const { return elements[e].first_child >= 0; }
   bool is_enclosed(int e) const { return !enclosed.empty() && enclosed[e]; }
+  // The weight of child c in its parent p's mean radiosity: its share of p's open area.
+  double child_weight(int c, int p) const {
+    if (open_area.empty()) return elements[c].area / elements[p].area;
+    return open_area[p] > 0 ? open_area[c] / open_area[p] : 0.0;
+  }
+  // What the irradiance element e gathers (its mean over the element) is on its open part: the
+  // element's area over that part's, 0 where all of it is enclosed.
+  double open_spread(int e) const {
+    if (open_area.empty()) return 1.0;
+    return open_area[e] > 0 ? elements[e].area / open_area[e] : 0.0;
+  }
   // The index of root element `root` in `roots`.
   int root_slot(int root) const;
   // The roots' triangles: the occluders of the visibility scene (the same surfaces as the leaves,

@@ -27,7 +27,7 @@ void Hierarchy::pull(const std::vector<const double*>& V, Values& out, const dou
           for (std::size_t k = 0; k < K; ++k) b[k] = c * V[k][el.leaf];
         } else {
           for (int c = 0; c < 4; ++c) {
-            const double w = elements[el.first_child + c].area / el.area;
+            const double w = child_weight(el.first_child + c, e);
             const double* bc = &out.B[(el.first_child + c) * K];
             for (std::size_t k = 0; k < K; ++k) b[k] += w * bc[k];
           }
@@ -92,12 +92,13 @@ void Hierarchy::apply(const std::vector<const double*>& V, const std::vector<dou
   std::vector<double> root_E;
   cluster_field(v, root_E);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, root_block.size(), 8), [&](const auto& range) {
-    std::vector<double> H;
+    std::vector<double> H, own(3 * K);
     for (std::size_t r = range.begin(); r != range.end(); ++r) {
       const auto [first, end] = root_block[r];
       H.assign((end - first) * 3 * K, 0.0);
+      const double root_spread = open_spread(first);
       for (int n = 0; n < 3; ++n)  // what links into clusters give the root: constant over it
-        for (std::size_t k = 0; k < K; ++k) H[n * K + k] = root_E[r * K + k];
+        for (std::size_t k = 0; k < K; ++k) H[n * K + k] = root_spread * root_E[r * K + k];
       for (int e = first; e < end; ++e) {  // parents first: push down
         const Element& el = elements[e];
         double* h = &H[(e - first) * 3 * K];
@@ -109,7 +110,14 @@ void Hierarchy::apply(const std::vector<const double*>& V, const std::vector<dou
               if (at[n][m] != 0)
                 for (std::size_t k = 0; k < K; ++k) h[n * K + k] += at[n][m] * hp[m * K + k];
         }
-        gather_links(e, v, h);
+        if (open_area.empty()) {
+          gather_links(e, v, h);
+        } else {  // onto the open part (open_spread); an enclosed leaf receives nothing
+          std::fill(own.begin(), own.end(), 0.0);
+          gather_links(e, v, own.data());
+          const double spread = open_spread(e);
+          for (std::size_t q = 0; q < 3 * K; ++q) h[q] = spread > 0 ? h[q] + spread * own[q] : 0.0;
+        }
         if (el.leaf >= 0) {
           const double s = (scaled ? leaf_scale[el.leaf] : 1.0) / 3;
           for (std::size_t k = 0; k < K; ++k) FV[k][el.leaf] = s * (h[k] + h[K + k] + h[2 * K + k]);
@@ -202,18 +210,24 @@ void Hierarchy::apply_transpose(const double* W, double* out) const {
         double* h = &H[(e - first) * 3];
         if (el.leaf >= 0)
           for (int n = 0; n < 3; ++n) h[n] += W[el.leaf] / 3;
+        // The adjoint of apply's spread onto the open part: what e gathers reaches its leaves times
+        // open_spread, and what its parent pushes reaches them only where e is not all enclosed.
+        const double spread = open_spread(e);
+        if (spread == 0)
+          for (int n = 0; n < 3; ++n) h[n] = 0;
+        const double hs[3] = {spread * h[0], spread * h[1], spread * h[2]};
         for (std::size_t l = link_start[e]; l < link_start[e + 1]; ++l) {
           const Link& link = links[l];
           if (!link.from_cluster) {
-            const double read_bar = link.coeff[0] * h[0] + link.coeff[1] * h[1] + link.coeff[2] * h[2];
+            const double read_bar = link.coeff[0] * hs[0] + link.coeff[1] * hs[1] + link.coeff[2] * hs[2];
             source_read(link.source, link.read_point()).scatter(read_bar, B_bar);
           } else {
-            const double total = h[0] + h[1] + h[2];
+            const double total = hs[0] + hs[1] + hs[2];
             for (int k = 0; k < 3; ++k) Phi_bar[link.source * 6 + link.bin[k]] += link.coeff[k] * total;
           }
         }
         for (const LeafLink& link : leaf_links_of(e)) {
-          source_read(link.source, link.point).scatter(link.F * h[0] + link.F * h[1] + link.F * h[2], B_bar);
+          source_read(link.source, link.point).scatter(link.F * hs[0] + link.F * hs[1] + link.F * hs[2], B_bar);
         }
         if (el.parent >= 0) {
           double* hp = &H[(el.parent - first) * 3];
@@ -222,7 +236,7 @@ void Hierarchy::apply_transpose(const double* W, double* out) const {
             for (int m = 0; m < 3; ++m) hp[m] += at[n][m] * h[n];
         }
       }
-      root_E_bar[r] = H[0] + H[1] + H[2];
+      root_E_bar[r] = open_spread(first) * (H[0] + H[1] + H[2]);
     }
   });
   std::vector<double> bar(E + 6 * clusters.size(), 0.0);
@@ -249,7 +263,7 @@ void Hierarchy::apply_transpose(const double* W, double* out) const {
         if (el.leaf >= 0) {
           out[el.leaf] = B_bar[e];
         } else {
-          for (int c = 0; c < 4; ++c) B_bar[el.first_child + c] += elements[el.first_child + c].area / el.area * B_bar[e];
+          for (int c = 0; c < 4; ++c) B_bar[el.first_child + c] += child_weight(el.first_child + c, e) * B_bar[e];
         }
       }
     }
