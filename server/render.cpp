@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <limits>
+#include <map>
 #include <sstream>
 #include <stdexcept>
 
@@ -38,6 +39,62 @@ Vector3 parse_triple(const std::string& key, const std::string& value) {
   }
   if (*p != '\0') throw std::invalid_argument("--camera " + key + "=" + value + ": expected three numbers X,Y,Z");
   return {v[0], v[1], v[2]};
+}
+
+// Per patch, the patches that lie on it back to back (a pane's or a sheet's two faces: one plane,
+// opposite normals, overlapping boxes). Along a ray both are at one distance and Embree returns
+// either; where it returns the one facing away, trace() takes the one facing the camera there.
+// Planes are matched by their normal and offset rounded to 1e-6 (of the scene's size for the
+// offset); a pair split by the rounding is drawn as before.
+std::vector<std::vector<int>> back_to_back(const std::vector<Triangle>& triangles, const std::vector<Vector3>& normals) {
+  const std::size_t N = triangles.size();
+  Bounds3 all;
+  std::vector<Bounds3> boxes(N);
+  for (std::size_t i = 0; i < N; ++i)
+    for (const Point3& v : triangles[i].v) boxes[i].add(v), all.add(v);
+  const double size = std::max(length(all.diagonal()), 1e-300);
+  // The plane with its normal turned so that its largest component is positive, and the side.
+  std::map<std::array<long long, 4>, std::array<std::vector<int>, 2>> planes;
+  for (std::size_t i = 0; i < N; ++i) {
+    Vector3 n = normals[i];
+    const double largest = std::abs(n.x) >= std::abs(n.y) && std::abs(n.x) >= std::abs(n.z) ? n.x
+                           : std::abs(n.y) >= std::abs(n.z)                                 ? n.y
+                                                                                            : n.z;
+    if (!std::isfinite(largest) || largest == 0) continue;
+    const int side = largest > 0 ? 0 : 1;
+    if (side == 1) n = n * -1.0;
+    const double offset = dot(n, to_vector(triangles[i].v[0]) - to_vector(all.lo)) / size;
+    const std::array<long long, 4> key = {std::llround(n.x * 1e6), std::llround(n.y * 1e6), std::llround(n.z * 1e6),
+                                          std::llround(offset * 1e6)};
+    planes[key][side].push_back(static_cast<int>(i));
+  }
+  constexpr double kMaxPairs = 4e6;  // per plane: beyond, its faces are drawn as before
+  std::vector<std::vector<int>> twins(N);
+  const double margin = 1e-9 * size;
+  const auto overlap = [&](const Bounds3& a, const Bounds3& b) {
+    for (int k = 0; k < 3; ++k)
+      if (a.lo[k] > b.hi[k] + margin || b.lo[k] > a.hi[k] + margin) return false;
+    return true;
+  };
+  for (const auto& [key, sides] : planes) {
+    if (sides[0].empty() || sides[1].empty() || double(sides[0].size()) * double(sides[1].size()) > kMaxPairs) continue;
+    for (int i : sides[0])
+      for (int j : sides[1])
+        if (overlap(boxes[i], boxes[j])) twins[i].push_back(j), twins[j].push_back(i);
+  }
+  return twins;
+}
+
+// Whether `point`, in the plane of t, lies in t (to 1e-9 of its size).
+bool in_triangle(const Triangle& t, const Point3& point) {
+  const Vector3 n = t.area_vector();
+  const double whole = dot(n, n);
+  if (!(whole > 0)) return false;
+  for (int k = 0; k < 3; ++k) {
+    const Point3 &a = t.v[(k + 1) % 3], &b = t.v[(k + 2) % 3];
+    if (dot(cross(b - a, point - a), n) / whole < -1e-9) return false;
+  }
+  return true;
 }
 
 }  // namespace
@@ -113,6 +170,7 @@ Image render(const RenderPatches& patches, const Camera& camera, const RenderOpt
   const Visibility vis(patches.triangles);
   std::vector<Vector3> normals(N);
   for (std::size_t i = 0; i < N; ++i) normals[i] = patches.triangles[i].normal();
+  const std::vector<std::vector<int>> twins = back_to_back(patches.triangles, normals);
 
   // Camera frame.
   const Vector3 forward = normalize(camera.look - camera.eye);
@@ -179,6 +237,8 @@ Image render(const RenderPatches& patches, const Camera& camera, const RenderOpt
       const double t = along != 0 ? dot(patches.triangles[hit].v[0] - from, n) / along : 0.0;
       point = from + dir * std::max(t, 0.0);
       if (along < 0) return hit;
+      for (int twin : twins[hit])  // a face lying on this back face, toward the camera
+        if (in_triangle(patches.triangles[twin], point)) return twin;
       from = point + dir * (1e-6 * far);  // past the back face (Embree works in float)
     }
     return -1;

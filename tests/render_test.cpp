@@ -123,6 +123,40 @@ TEST(Render, ACameraOutsideAClosedRoomSeesIntoIt) {
   EXPECT_GT(centre.g, 240);
 }
 
+TEST(Render, ASheetOfTwoFacesBackToBackShowsTheFaceTowardTheCamera) {
+  // A sheet (a pane, a shelf) as two coincident faces, the top ρ = 0.8 facing up, the bottom ρ = 0.2
+  // facing down, triangulated along the other diagonal, over a black floor, under ambient light. The
+  // two faces are at one distance along every ray, and Embree returns either; where it returned the
+  // bottom (a back face from above) the picture looked through the sheet to the floor. From above,
+  // every pixel on the sheet shows the top; from below, the bottom.
+  SceneBuilder b(grid_nm());
+  const int top = b.material("top", 0.8), bottom = b.material("bottom", 0.2), black = b.material("black", 0.0);
+  b.surface("top", top, rectangle({-0.5, -0.5, 1}, {1, 0, 0}, {0, 1, 0}));
+  const std::vector<Triangle> up = rectangle({-0.5, -0.5, 1}, {0, 1, 0}, {1, 0, 0});
+  b.surface("bottom", bottom, {Triangle{{up[0].v[1], up[0].v[2], up[1].v[2]}}, Triangle{{up[0].v[1], up[1].v[2], up[0].v[0]}}});
+  b.surface("floor", black, rectangle({-2, -2, 0}, {4, 0, 0}, {0, 4, 0}));
+  b.scene().lights.emplace_back(std::in_place_type<AmbientLight>, AmbientLight{std::vector<double>(b.scene().grid.size(), 1.0)});
+  b.max_patch_area(0.01);
+  const Solution sol = solve(b.scene());
+  const Report report = make_report(b.scene(), sol);
+  RenderOptions options;  // white: twice the top's luminance, so that both faces' pixels lie well inside 0–255
+  options.white_cd_m2 = 2 * tristimulus(std::vector<double>(b.scene().grid.size(), 0.8 / kPi), b.scene().grid).Y;
+  const RenderPatches patches = render_patches(b.scene(), sol, report);
+  for (bool from_above : {true, false}) {
+    Camera camera = looking_down(3, 14, 64);  // the sheet fills the middle of the picture
+    if (!from_above) camera.eye = {0, 0, 0.5}, camera.look = {0, 0, 1}, camera.fov_deg = 100;
+    const Image image = render(patches, camera, options);
+    const Rgb centre = image.at(32, 32);
+    int other = 0;
+    for (int y = 16; y < 48; ++y)
+      for (int x = 16; x < 48; ++x) other += !(image.at(x, y) == centre);
+    EXPECT_EQ(other, 0) << (from_above ? "from above" : "from below");
+    const double rho = from_above ? 0.8 : 0.2;  // L = ρ E / π; the floor is black
+    const auto L = xyz_to_linear_srgb(tristimulus(std::vector<double>(b.scene().grid.size(), rho / kPi), b.scene().grid));
+    EXPECT_NEAR(centre.g, expected_pixel(L[1] / *options.white_cd_m2), 1) << (from_above ? "from above" : "from below");
+  }
+}
+
 TEST(Render, SpecularHighlightAtTheMirrorDirection) {
   // A black diffuse plane with a Phong lobe k_s = 0.5, n = 20, under an isotropic point source I at
   // height 1 straight above the origin; the camera looks straight down at the origin, along the
