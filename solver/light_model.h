@@ -77,6 +77,10 @@ class LightModel {
 
   // What the source is, as output.per_source names a light ("point", "spot", "ambient", ...).
   virtual std::string_view kind() const = 0;
+
+  // Whether the light is the same on every receiver and comes from no direction (ambient): no ray
+  // carries it, so no pane transmits it and no observer sees it as a source, but an eye receives it.
+  virtual bool directionless() const { return false; }
 };
 
 // What a light may ask of the scene it lights, beyond rays: the sources stage fills it once per solve,

@@ -17,6 +17,7 @@ class AmbientLightModel final : public LightModel {
   double patch_factor(const Triangle&, const Visibility&) const override { return 1; }
   double flux_factor() const override { return 0; }
   std::string_view kind() const override { return "ambient"; }
+  bool directionless() const override { return true; }
 
  private:
   AmbientLight light_;

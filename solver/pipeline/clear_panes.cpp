@@ -65,7 +65,7 @@ void add_direct_through_panes(DirectLight& d, const Scene& scene, const std::vec
           }
         }
         if (own < 0) continue;
-        const double g = source.kind() == "ambient" ? 0.0 : source.patch_factor(back, clear->view(own));
+        const double g = source.directionless() ? 0.0 : source.patch_factor(back, clear->view(own));
         if (g == 0) continue;
         const auto& S = source.spectrum();
         double* T = known ? &d.transmitted_known_flux[i * W] : &d.transmitted_unknown_flux[i * W];

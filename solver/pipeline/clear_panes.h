@@ -38,7 +38,7 @@ class ClearPanes {
   // light takes no rays (ambient).
   template <class Factor>
   bool through(const LightModel& source, Factor&& factor, std::vector<double>& out) const {
-    if (empty() || source.kind() == "ambient") return false;
+    if (empty() || source.directionless()) return false;
     bool any = false;
     for (std::size_t c = 0; c < views_.size(); ++c) {
       const double g = factor(*views_[c]);

@@ -85,7 +85,7 @@ std::vector<double> indirect_at_eye(const GlareObserver& o, const Scene& scene, 
     for (std::size_t w = 0; w < W; ++w) E[w] = Ek[systems.system_of(0, w)];
   }
   for (const auto& source : light.sources) {
-    if (source->kind() != "ambient") continue;
+    if (!source->directionless()) continue;
     for (std::size_t w = 0; w < W; ++w) E[w] += source->spectrum()[w];
   }
   return E;
