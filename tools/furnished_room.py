@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Writes the furnished room of docs/BENCHMARKS.md ("A furnished room by auto at 2 000-90 000 patches").
+"""Writes the furnished room of docs/BENCHMARKS.md ("A furnished room by `auto` at 2 800–70 000 patches").
 
 A 6 x 4 x 3 m room (walls and ceiling rho = 0.5, floor 0.3) with a cabinet standing in a corner
 (contacts with the floor and two walls), a stool on the floor (a contact), and a table top floating at
