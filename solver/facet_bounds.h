@@ -65,6 +65,29 @@ inline double binned_area(const FacetBounds& F, const Vector3& w) {
          std::abs(w.z) * F.projected[w.z > 0 ? 4 : 5];
 }
 
+// How much the area the set shows may change as the direction turns from w to any direction within δ
+// of it (sin δ given), beyond the relative change sin δ × binned_area(w) that a one-point estimate
+// already counts. Along axis a the cosine |u_a| moves by up to sin δ: the bin facing w may gain or
+// lose bin × sin δ of which the relative term holds bin × |w_a| × sin δ; where the direction may cross
+// the axis plane (|w_a| < sin δ), either side's bin may show, so the larger counts whole. A panel
+// facing down, read from a direction just above its plane, shows nothing along w, yet a receiver
+// below part of it sees it.
+inline double turning_area(const FacetBounds& F, const Vector3& w, double sin_delta) {
+  const double wa[3] = {w.x, w.y, w.z};
+  double sum = 0;
+  for (int a = 0; a < 3; ++a) {
+    const double toward = F.projected[wa[a] > 0 ? 2 * a : 2 * a + 1];
+    sum += std::abs(wa[a]) < sin_delta ? std::max(F.projected[2 * a], F.projected[2 * a + 1])
+                                       : toward * (1 - std::abs(wa[a]));
+  }
+  return sum * sin_delta;
+}
+// The same for one flat piece of area A whose unit normal makes cos_w with w: A (n·u) moves by up to
+// A sin δ, of which the relative term holds A |cos_w| sin δ.
+inline double turning_area(double area, double cos_w, double sin_delta) {
+  return area * sin_delta * (std::abs(cos_w) < sin_delta ? 1 : 1 - std::abs(cos_w));
+}
+
 // The largest area the set shows in any direction, Σ A (n·u)⁺ ≤ Σ_a |u_a| max(bin +a, bin −a), at
 // most the norm of those three maxima (Cauchy–Schwarz, |u| = 1).
 inline double max_projected(const FacetBounds& F) {

@@ -135,6 +135,58 @@ TEST(FacetBounds, MaxProjectedBoundsEveryDirectionAndIsExactForOneTriangle) {
   });
 }
 
+// A direction u with |u − w| = chord at most: w turned by an angle θ ≤ 2 asin(chord / 2).
+Vector3 turned(RandomFacets& random, const Vector3& w, double chord) {
+  const Vector3 d = random.direction();
+  const Vector3 side = normalize(d - w * dot(d, w));
+  const double theta = random.uniform(0, 2 * std::asin(chord / 2));
+  return w * std::cos(theta) + side * std::sin(theta);
+}
+
+TEST(FacetBounds, TurningAreaBoundsWhatTheBinsGainOrLoseAlongNearbyDirections) {
+  // Along every direction u within a chord s of w, the bins show binned(w) give or take
+  // s × binned(w) + turning_area(w, s), and so does the set where the bins are exact (axis normals);
+  // one flat piece shows A (n·w)⁺ give or take s A (n·w)⁺ + turning_area(A, n·w, s).
+  RandomFacets random(6);
+  for_each_random_set(random, 100, 17, [&](Kind kind, int trial, const std::vector<Facet>& facets, const FacetBounds& F) {
+    for (int k = 0; k < 50; ++k) {
+      const Vector3 w = random.direction();
+      const double s = random.uniform(0.01, 0.8);
+      const Vector3 u = turned(random, w, s);
+      ASSERT_LE(length(u - w), s * (1 + 1e-12));
+      const double allowed = s * binned_area(F, w) + turning_area(F, w, s) + 1e-12 * F.area;
+      ASSERT_LE(std::abs(binned_area(F, u) - binned_area(F, w)), allowed) << trial;
+      if (kind == Kind::Axes) {
+        ASSERT_LE(std::abs(shown(facets, u) - shown(facets, w)), allowed) << trial;
+      }
+      for (const Facet& f : facets) {
+        const double along_w = f.area * std::max(0.0, dot(f.normal, w));
+        const double along_u = f.area * std::max(0.0, dot(f.normal, u));
+        ASSERT_LE(std::abs(along_u - along_w), s * along_w + turning_area(f.area, dot(f.normal, w), s) + 1e-12 * f.area)
+            << trial;
+      }
+    }
+  });
+}
+
+TEST(FacetBounds, APanelSeenFromJustAboveItsPlaneMayShowItselfBelow) {
+  // A 1 m² panel facing down, w 3° above its plane: the bins facing w show nothing, yet along
+  // u = (cos 9°, 0, −sin 9°), 0.21 away, it shows sin 9° = 0.156 m². The relative term alone,
+  // s × binned(w), is 0; turning_area counts the panel's bin whole, s × 1 m².
+  const Vector3 down_normal{0, 0, -1};
+  const std::vector<Facet> panel = {{Triangle{{Point3{0, 0, 0}, Point3{1, 1, 0}, Point3{1, 0, 0}}}, down_normal, 0.5},
+                                    {Triangle{{Point3{0, 0, 0}, Point3{0, 1, 0}, Point3{1, 1, 0}}}, down_normal, 0.5}};
+  const FacetBounds F = bounds_of(panel);
+  const double degree = std::acos(-1.0) / 180, up = 3 * degree, down = 9 * degree;
+  const Vector3 w{std::cos(up), 0, std::sin(up)}, u{std::cos(down), 0, -std::sin(down)};
+  const double s = length(u - w);
+  EXPECT_NEAR(s, 2 * std::sin(6 * degree), 1e-12);  // the chord of 12°
+  EXPECT_EQ(binned_area(F, w), 0);
+  EXPECT_NEAR(shown(panel, u), std::sin(down), 1e-12);
+  EXPECT_NEAR(turning_area(F, w, s), s * 1.0, 1e-12);
+  EXPECT_GE(turning_area(F, w, s), shown(panel, u));
+}
+
 TEST(FacetBounds, ConeHoldsEveryNormal) {
   RandomFacets random(3);
   for_each_random_set(random, 200, 9, [&](Kind, int, const std::vector<Facet>& facets, const FacetBounds& F) {

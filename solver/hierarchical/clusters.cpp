@@ -98,11 +98,12 @@ void table_cluster_samples(ClusterTree& h) {
 
 }  // namespace
 
-ClusterView cluster_view(const ClusterTree& h, int c, const Vector3& w) {
+ClusterView cluster_view(const ClusterTree& h, int c, const Vector3& w, double sin_delta) {
   ClusterView view;
   const double wa[3] = {w.x, w.y, w.z};
   for (int a = 0; a < 3; ++a) view.bin[a] = static_cast<unsigned char>(wa[a] > 0 ? 2 * a : 2 * a + 1);
   const Cluster& C = h.clusters[c];
+  view.turning = turning_area(C, w, sin_delta);
   const double binned = binned_area(C, w);
   if (binned <= 0) return view;
   if (C.axis_normals) {  // the bins are exact (the common case in buildings)
@@ -130,7 +131,7 @@ ClusterTree build_cluster_tree(const ElementForest& forest) {
 }
 
 double one_point_error(const ClusterView& view, double scale, double d, double d_min) {
-  return (view.projected * scale / d + view.uncertainty) / (kPi * d_min * d_min);
+  return (view.projected * scale / d + view.uncertainty + view.turning) / (kPi * d_min * d_min);
 }
 
 double unseen_transfer(const Cluster& C, const ClusterView& view, bool receiver_faces, double sin_delta, double d_min) {

@@ -68,15 +68,18 @@ struct ClusterView {
   std::array<double, 3> weight{};
   double projected = 0;  // 0: every root faces away from w
   double uncertainty = 0;
+  double turning = 0;  // turning_area over the pair's directions (facet_bounds.h)
 };
-ClusterView cluster_view(const ClusterTree& tree, int c, const Vector3& w);
+ClusterView cluster_view(const ClusterTree& tree, int c, const Vector3& w, double sin_delta);
 
 // The bounds of the BF oracle (refiner.h) on a cluster's one-point estimate, per unit of the cluster's
 // radiosity, toward a receiver across distance d between bounding spheres whose radii sum to `scale`
 // (d_min = d − scale, directions within δ = asin(scale/d) of the line w between the centres):
 //   - one_point_error: the transfer is at most projected/(π d_min²) (cos ≤ 1, distance ≥ d_min); the
-//     estimate errs by about the pair's relative size scale/d of it, and the projected area by its
-//     uncertainty;
+//     estimate errs by about the pair's relative size scale/d of it, the projected area by its
+//     uncertainty, and by what the area shown may gain or lose as the direction turns within δ
+//     (turning: read along w alone, a panel seen at grazing incidence shows the receiver's other
+//     points far more than it shows w);
 //   - unseen_transfer: where the line between the centres misses (the cluster shows nothing along w,
 //     or the receiver faces away from it: `receiver_faces` false), the estimate is 0, yet a cluster
 //     seen edge-on from its centre's direction may face the receiver along the others. Along those,

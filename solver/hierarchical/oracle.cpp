@@ -49,6 +49,20 @@ OracleValues oracle_values(const Hierarchy& h, const std::vector<double>& leaf_B
   Hierarchy::Values v;
   h.pull({leaf_B.data()}, v);
   out.element_B = std::move(v.B);
+  out.element_departure.assign(h.elements.size(), 0.0);
+  for (std::size_t e = h.elements.size(); e-- > 0;) {  // children come after their parent
+    const int c = h.elements[e].first_child;
+    if (c < 0) continue;
+    double departure = 0;
+    bool open = true;  // an enclosed child's 0 is no radiosity of the field
+    for (int k = 0; k < 4; ++k) {
+      departure = std::max(departure, out.element_departure[c + k]);
+      open = open && !h.is_enclosed(c + k);
+    }
+    const std::vector<double>& B = out.element_B;
+    if (open) departure = std::max(departure, std::abs(B[c + 3] - (B[c] + B[c + 1] + B[c + 2]) / 3));
+    out.element_departure[e] = departure;
+  }
   std::vector<double> root_max(h.elements.size(), 0.0);  // the largest leaf of each root's tree
   for (std::size_t i = 0; i < h.leaves.size(); ++i) {
     double& m = root_max[h.elements[h.leaves[i]].root];

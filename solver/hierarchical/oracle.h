@@ -25,6 +25,13 @@ OracleRadiosity oracle_radiosity(const Hierarchy& h, const SpectralSystems& syst
 struct OracleValues {
   std::vector<double> element_B;  // area mean of the leaves below
   std::vector<double> cluster_B;  // the largest leaf below
+  // How far the radiosity below each element departs from a linear field over it: the largest, over
+  // the element and the elements below it, of |B_centre − (B_0 + B_1 + B_2) / 3| over its children
+  // (a linear field gives the centre child the mean of the three corner children, since each child's
+  // mean is the field at its centroid). An element link reads its source's linear field (links.h);
+  // where the radiosity dips within the source (a wall in front of an object close to it), the link
+  // errs by its factor times this.
+  std::vector<double> element_departure;
 };
 OracleValues oracle_values(const Hierarchy& h, const std::vector<double>& leaf_B);
 

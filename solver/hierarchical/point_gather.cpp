@@ -109,7 +109,7 @@ void HierarchicalPointGather::visit_cluster(const Receiver& r, const Point3& fro
     const double sin_delta = C.radius / d;
     if (planar && -dot(n, w) <= -sin_delta) return;  // behind the plane from every point of the cluster
     if (!may_face(C, w, sin_delta, Bounds3{p, p})) return;
-    const ClusterView view = cluster_view(h_, c, w);
+    const ClusterView view = cluster_view(h_, c, w, sin_delta);
     const double weight = receiver_weight(r, -w);  // (n·ω)⁺ for a plane
     if (view.projected <= 0 || weight <= 0) {
       // The line between the centres misses; the other directions may not. A receiver other than

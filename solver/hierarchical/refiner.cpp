@@ -48,6 +48,7 @@ Refiner::Refiner(const Hierarchy& h, const Visibility& vis, const ExactVisibilit
                  const OracleValues& oracle, double epsilon, double unit_area, double accuracy, ExchangeCache& exchange,
                  HiddenRoom& hidden_room)
     : h_(h), vis_(vis), shafts_(shafts), planes_(planes), element_B_(oracle.element_B), cluster_B_(oracle.cluster_B),
+      departure_(oracle.element_departure),
       epsilon_(epsilon), unit_area_(unit_area), exchange_(exchange), hidden_room_(hidden_room) {
   // The cubature of near pairs may err by a tenth of what the oracle allows a link (relative), not
   // the dense solver's 1e-5: the city block of the benchmarks solved 1.3× faster, its radiosity
@@ -98,7 +99,8 @@ void Refiner::refine_to_element(int r, int s, LinkBatch& out) const {
   for (int q = 0; q < kPoints; ++q)
     residual = std::max(residual, std::abs(f[q] - (a[0] * beta[q][0] + a[1] * beta[q][1] + a[2] * beta[q][2])));
   const double weight = area_weight(R.area);
-  if (B * residual * weight > epsilon_) return split(r, s, out);
+  // The kernel's fit, and the source's radiosity away from the linear field the link reads.
+  if ((B * residual + mean * departure_[s]) * weight > epsilon_) return split(r, s, out);
   // Near pairs: the mean by adaptive cubature over the smaller of the two (exchange_area; exact
   // kernel, log-singular near contact).
   const double separation = distance(R.centre, S.centre) / (R.radius + S.radius);
@@ -155,7 +157,7 @@ void Refiner::refine_to_cluster(int r, int c, LinkBatch& out) const {
     const double sin_delta = scale / d;
     const double cos_r = -dot(R.normal, w);
     if (cos_r <= -sin_delta || !may_face(C, w, sin_delta, bounds(R.tri))) return;
-    const ClusterView view = cluster_view(h_, c, w);
+    const ClusterView view = cluster_view(h_, c, w, sin_delta);
     // A link of factor 0 where the line between the centres misses: dropped if all that could pass
     // along the other directions is within the budget.
     if ((view.projected <= 0 || cos_r <= 0) &&
@@ -225,11 +227,12 @@ void Refiner::refine_pair(int rc, int s, bool from_cluster, LinkBatch& out) cons
   ClusterView view;
   if (from_cluster) {
     if (!may_face(h_.clusters[s], w, sin_delta, R.box)) return;
-    view = cluster_view(h_, s, w);
+    view = cluster_view(h_, s, w, sin_delta);
   } else {
     const Element& E = h_.elements[s];
     if (dot(E.normal, w) <= -sin_delta) return;
     view.projected = E.area * std::max(0.0, dot(E.normal, w));
+    view.turning = turning_area(E.area, dot(E.normal, w), sin_delta);
   }
   const double B = from_cluster ? cluster_B_[s] : element_B_[s];
   if (view.projected <= 0) {  // a link of factor 0, as in refine_to_cluster
@@ -374,7 +377,9 @@ bool Refiner::recheck(const ClusterLink& link, LinkBatch& out) const {
 
 bool Refiner::recheck(const Link& link, LinkBatch& out) const {
   const double B = link.from_cluster ? cluster_B_[link.source] : element_B_[link.source];
-  if (B * link.error_per_B <= epsilon_) return false;
+  const double departure =
+      link.from_cluster ? 0 : link.mean_factor() * departure_[link.source] * area_weight(h_.elements[link.receiver].area);
+  if (B * link.error_per_B + departure <= epsilon_) return false;
   if (link.from_cluster) {
     refine_to_cluster(link.receiver, link.source, out);
   } else if (h_.has_children(link.receiver) || h_.has_children(link.source)) {

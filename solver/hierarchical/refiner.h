@@ -118,6 +118,7 @@ class Refiner {
   const PlaneVerdicts& planes_;
   const std::vector<double>& element_B_;
   const std::vector<double>& cluster_B_;
+  const std::vector<double>& departure_;  // OracleValues::element_departure
   double epsilon_;
   double unit_area_;
   AreaFactorOptions near_field_;

@@ -1,0 +1,84 @@
+// The refinement oracle's view of the radiosity (solver/hierarchical/oracle.h) on fields whose element
+// means are known in closed form: a field linear over a square, whose element means are its values at
+// the elements' centroids, and a uniform field with one leaf dark.
+#include "solver/hierarchical/oracle.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "solver/hierarchical/clusters.h"
+#include "solver/hierarchical/elements.h"
+#include "tests/scene_builder.h"
+
+namespace lambert::hierarchical {
+namespace {
+
+// A 2 m square of two roots, split down to 1/64 of each root (three levels below it).
+Hierarchy square_hierarchy() {
+  test::SceneBuilder b;
+  b.surface("square", b.material("grey", 0.5), test::rectangle({0, 0, 0}, {2, 0, 0}, {0, 2, 0}));
+  Hierarchy h;
+  static_cast<ElementForest&>(h) = build_forest(b.scene(), 2.0 / 64, {});
+  static_cast<ClusterTree&>(h) = build_cluster_tree(h);
+  return h;
+}
+
+int depth(const Hierarchy& h, int e) {
+  int d = 0;
+  for (; h.elements[e].parent >= 0; e = h.elements[e].parent) ++d;
+  return d;
+}
+
+TEST(Oracle, ALinearFieldDepartsFromNothing) {
+  const Hierarchy h = square_hierarchy();
+  ASSERT_EQ(h.leaves.size(), 128u);
+  // B = 1 + 0.3 x − 0.2 y: a leaf's mean is B at its centroid, and so is every element's (the area
+  // mean of a linear field), so the centre child's mean is the corner children's mean at every level.
+  std::vector<double> leaf_B;
+  for (int e : h.leaves) leaf_B.push_back(1 + 0.3 * h.elements[e].centre.x - 0.2 * h.elements[e].centre.y);
+  const OracleValues v = oracle_values(h, leaf_B);
+  for (std::size_t e = 0; e < h.elements.size(); ++e) {
+    const Point3& c = h.elements[e].centre;
+    EXPECT_NEAR(v.element_B[e], 1 + 0.3 * c.x - 0.2 * c.y, 1e-12);
+    EXPECT_NEAR(v.element_departure[e], 0, 1e-12) << e;
+  }
+}
+
+TEST(Oracle, ADarkLeafDepartsAtEveryAncestor) {
+  const Hierarchy h = square_hierarchy();
+  // Uniform B = 1 but for one leaf at 0; the elements off that leaf's path to its root depart from
+  // nothing. A dark centre child (slot 3) gives its parent a centre mean of 0 against corners of 1, a
+  // departure of 1; a dark corner child (slot 0), a centre of 1 against corners of (0 + 1 + 1) / 3, a
+  // departure of 1/3. Further up, the parent's mean is 3/4 against 1 around it, which departs by at
+  // most 1/4 (as a centre child) or 1/12 (as a corner), less than either; each ancestor takes the
+  // largest departure below it.
+  for (int dark_slot : {0, 3}) {
+    int dark = -1;
+    for (std::size_t i = 0; i < h.leaves.size() && dark < 0; ++i) {
+      const int e = h.leaves[i];
+      const int p = h.elements[e].parent;
+      if (h.elements[p].first_child + dark_slot == e) dark = static_cast<int>(i);
+    }
+    ASSERT_GE(dark, 0);
+    std::vector<double> leaf_B(h.leaves.size(), 1.0);
+    leaf_B[dark] = 0;
+    const OracleValues v = oracle_values(h, leaf_B);
+    std::vector<char> on_path(h.elements.size(), 0);
+    for (int e = h.leaves[dark]; e >= 0; e = h.elements[e].parent) on_path[e] = 1;
+    const double expected = dark_slot == 3 ? 1.0 : 1.0 / 3;
+    for (std::size_t e = 0; e < h.elements.size(); ++e) {
+      if (!h.has_children(static_cast<int>(e))) {
+        EXPECT_EQ(v.element_departure[e], 0);
+        continue;
+      }
+      EXPECT_NEAR(v.element_departure[e], on_path[e] ? expected : 0.0, 1e-12)
+          << "slot " << dark_slot << ", element " << e << " at depth " << depth(h, static_cast<int>(e));
+    }
+  }
+}
+
+}  // namespace
+}  // namespace lambert::hierarchical
