@@ -809,8 +809,8 @@ TEST(Hierarchical, LitRoomWithFacetedSpheresAgreesWithDenseSolver) {
   // Patch by patch, on the patches both methods share (every facet; the room where the meshes meet):
   // the spheres' facets within 0.3 % rms and 1.5 % worst (measured 0.23 % and 0.15 % rms, 0.66 % and
   // 0.63 % worst). Without the departure of a source's radiosity from the linear field its links read
-  // (OracleValues::element_departure) and the area a view may turn into (turning_area), the facets
-  // facing the room's walls closely erred by up to 10 % (0.76 % rms). The room's patches: 0.69 % rms
+  // (OracleValues::element_departure) and what a view gains or loses across the pair (turning_area),
+  // facets erred by up to 10 % (0.76 % rms). The room's patches: 0.69 % rms
   // and 3.05 % worst, in the corners next to a sphere (docs/BENCHMARKS.md, "Patch by patch").
   std::map<std::array<double, 3>, double> dense_at;  // by the sum of a patch's corners
   auto key = [](const Triangle& t) {
