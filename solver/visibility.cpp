@@ -54,6 +54,7 @@ struct Visibility::Impl {
   mutable std::atomic<std::uint64_t> rays{0};
   std::vector<int> pane_channel;  // per occluder (set_specular_panes), or empty
   std::vector<Vector3> normal;    // per occluder where panes are marked: the unit normal
+  std::function<std::string(int)> pane_name;  // the surface of an occluder (set_specular_panes)
 
   ~Impl() {
     if (scene) rtcReleaseScene(scene);
@@ -202,11 +203,13 @@ void Visibility::first_hits(std::span<const Segment> segments, std::span<int> hi
 
 std::uint64_t Visibility::rays_traced() const { return impl_->rays.load(); }
 
-void Visibility::set_specular_panes(std::span<const Triangle> occluders, std::vector<int> channel_of_occluder) {
+void Visibility::set_specular_panes(std::span<const Triangle> occluders, std::vector<int> channel_of_occluder,
+                                    std::function<std::string(int)> name_of) {
   impl_->normal.assign(occluders.size(), Vector3{});
   for (std::size_t t = 0; t < occluders.size(); ++t)
     if (channel_of_occluder[t] >= 0) impl_->normal[t] = occluders[t].normal();
   impl_->pane_channel = std::move(channel_of_occluder);
+  impl_->pane_name = std::move(name_of);
 }
 
 std::unique_ptr<Visibility> Visibility::through_panes(int channel) const {
@@ -246,10 +249,15 @@ double Visibility::transmitted(const Point3& from, const Point3& to) const {
     impl_->rays.fetch_add(1, std::memory_order_relaxed);
   }
   if (rayhit.hit.geomID == RTC_INVALID_GEOMETRY_ID) return g;
-  if (impl_->pane_channel[rayhit.hit.primID] >= 0)
-    throw std::invalid_argument(
-        "a ray from a source crosses two specular panes; clear glass is supported where light crosses at most one "
-        "pane (model a double-glazed unit as one pane with the unit's transmittance)");
+  if (impl_->pane_channel[rayhit.hit.primID] >= 0) {
+    const auto name = [&](unsigned t) {
+      return impl_->pane_name ? "'" + impl_->pane_name(static_cast<int>(t)) + "'" : "occluder " + std::to_string(t);
+    };
+    throw std::invalid_argument("a ray from a source crosses two specular panes, surfaces " + name(first) + " and " +
+                                name(rayhit.hit.primID) +
+                                "; clear glass is supported where light crosses at most one pane (model a "
+                                "double-glazed unit as one pane with the unit's transmittance)");
+  }
   return 0;
 }
 

@@ -4,8 +4,10 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "mesh/geometry.h"
@@ -60,8 +62,10 @@ class Visibility {
 
   // Clear glass (solver/glazing.h). Marks occluders as specular panes: channel_of_occluder[t] is the
   // pane channel of occluder t (its material's; −1: opaque), `occluders` the constructor's. Every other method still takes a pane
-  // for opaque; transmitted() of a view (through_panes) lets rays cross it.
-  void set_specular_panes(std::span<const Triangle> occluders, std::vector<int> channel_of_occluder);
+  // for opaque; transmitted() of a view (through_panes) lets rays cross it. `name_of(t)`: the
+  // surface occluder t belongs to, for the error that refuses a ray crossing two panes.
+  void set_specular_panes(std::span<const Triangle> occluders, std::vector<int> channel_of_occluder,
+                          std::function<std::string(int)> name_of);
   // A view sharing this Visibility's BVH whose transmitted() counts the rays that cross one pane of
   // `channel` and nothing else. Kept alive by nothing: the Visibility must outlive its views.
   std::unique_ptr<Visibility> through_panes(int channel) const;

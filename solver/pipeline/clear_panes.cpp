@@ -19,14 +19,21 @@ ClearPanes::ClearPanes(const Scene& scene) : W_(scene.grid.size()) {
     any |= channel_of_surface_[s] >= 0;
   }
   if (!any) return;
-  std::vector<int> channel_of_occluder;
-  for (std::size_t s = 0; s < scene.surfaces.size(); ++s)
+  std::vector<int> channel_of_occluder, surface_of_occluder;
+  std::vector<std::string> names;
+  for (std::size_t s = 0; s < scene.surfaces.size(); ++s) {
+    names.push_back(scene.surfaces[s].name);
     for (std::size_t t = 0; t < scene.surfaces[s].mesh.triangles.size(); ++t) {
       triangles_.push_back(scene.surfaces[s].mesh.triangle(t));
       channel_of_occluder.push_back(channel_of_surface_[s]);
+      surface_of_occluder.push_back(static_cast<int>(s));
     }
+  }
   vis_ = std::make_unique<Visibility>(triangles_);
-  vis_->set_specular_panes(triangles_, std::move(channel_of_occluder));
+  vis_->set_specular_panes(triangles_, std::move(channel_of_occluder),
+                           [names = std::move(names), surface = std::move(surface_of_occluder)](int t) {
+                             return names[surface[t]];
+                           });
   for (std::size_t c = 0; c < tau_.size(); ++c) views_.push_back(vis_->through_panes(static_cast<int>(c)));
 }
 
