@@ -251,11 +251,11 @@ TEST(HardCases, APanelJustUnderTheCeilingLosesNoLightIntoTheGap) {
   // A one-sided emitting panel 1 mm under the ceiling of a closed room, everything ρ = 0.5: the
   // ceiling over the panel sees only the panel's back and is left out as enclosed, but the ceiling's
   // input triangles (and so the hierarchical method's elements) span it and the open ceiling around
-  // it. Conservation over the patches reported: emitted = Σ (1 − ρ) E A + escaped. Where a coarse
-  // ceiling element spread what it gathered over its enclosed part too, that flux was absorbed in the
-  // gap, in no reported patch: 7.9e-4 of the power in the 22 000-patch furnished room of
-  // docs/BENCHMARKS.md, where every surface then read that much low. The second method: the dense
-  // solve's surface means.
+  // it. Conservation over the patches reported: emitted = Σ (1 − ρ) E A + escaped. A coarse ceiling
+  // element that spreads what it gathers over its enclosed part too has that flux absorbed in the
+  // gap, in no reported patch (7.9e-4 of the power in the 22 000-patch furnished room of
+  // docs/BENCHMARKS.md, every surface that much low). The second method: the dense solve's surface
+  // means.
   std::array<std::array<double, 3>, 2> means{};
   for (SolverMethod method : {SolverMethod::Dense, SolverMethod::Hierarchical}) {
     SceneBuilder b;
@@ -277,7 +277,7 @@ TEST(HardCases, APanelJustUnderTheCeilingLosesNoLightIntoTheGap) {
     for (int s = 0; s < 3; ++s) means[method == SolverMethod::Dense ? 0 : 1][s] = surface_mean(sol, s, sol.irradiance);
   }
   // Within 1e-3: the two meshes differ (the hierarchical method's ceiling leaves the gap at other
-  // patches), which moves the ceiling's mean by a few 1e-4; the spread flux took 1.4e-3 from it.
+  // patches), which moves the ceiling's mean by a few 1e-4; spreading over the gap takes 1.4e-3.
   for (int s = 0; s < 3; ++s) EXPECT_NEAR(means[1][s] / means[0][s] - 1, 0, 1e-3) << "surface " << s;
 }
 

@@ -810,7 +810,7 @@ TEST(Hierarchical, LitRoomWithFacetedSpheresAgreesWithDenseSolver) {
   // the spheres' facets within 0.3 % rms and 1.5 % worst (measured 0.23 % and 0.15 % rms, 0.66 % and
   // 0.63 % worst). Without the departure of a source's radiosity from the linear field its links read
   // (OracleValues::element_departure) and what a view gains or loses across the pair (turning_area),
-  // facets erred by up to 10 % (0.76 % rms). The room's patches: 0.69 % rms
+  // the worst facet errs by 10 % (0.76 % rms). The room's patches: 0.69 % rms
   // and 3.05 % worst, in the corners next to a sphere (docs/BENCHMARKS.md, "Patch by patch").
   std::map<std::array<double, 3>, double> dense_at;  // by the sum of a patch's corners
   auto key = [](const Triangle& t) {

@@ -126,9 +126,9 @@ TEST(Render, ACameraOutsideAClosedRoomSeesIntoIt) {
 TEST(Render, ASheetOfTwoFacesBackToBackShowsTheFaceTowardTheCamera) {
   // A sheet (a pane, a shelf) as two coincident faces, the top ρ = 0.8 facing up, the bottom ρ = 0.2
   // facing down, triangulated along the other diagonal, over a black floor, under ambient light. The
-  // two faces are at one distance along every ray, and Embree returns either; where it returned the
-  // bottom (a back face from above) the picture looked through the sheet to the floor. From above,
-  // every pixel on the sheet shows the top; from below, the bottom.
+  // two faces are at one distance along every ray, and Embree returns either; a renderer that steps
+  // past the back face it returns (the bottom, from above) shows the floor through the sheet. From
+  // above, every pixel on the sheet shows the top; from below, the bottom.
   SceneBuilder b(grid_nm());
   const int top = b.material("top", 0.8), bottom = b.material("bottom", 0.2), black = b.material("black", 0.0);
   b.surface("top", top, rectangle({-0.5, -0.5, 1}, {1, 0, 0}, {0, 1, 0}));

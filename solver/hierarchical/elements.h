@@ -61,9 +61,9 @@ struct ElementForest {
   // Per element, where some leaf is enclosed (empty: none): the area of its leaves that are not. The
   // enclosed part of an element is hidden from every link (its rays meet back faces), so the flux an
   // element gathers lands on its open part only, and what it sends is its open part's mean radiosity
-  // (Hierarchy::apply, pull). Spread over the whole element, the flux that fell on the enclosed part
-  // was lost: in a room with a ceiling panel 1 mm under the ceiling, 8e-4 of the power, and every
-  // surface's irradiance was that much low.
+  // (Hierarchy::apply, pull). Spread over the whole element, the flux on the enclosed part would be
+  // absorbed where no patch reports it: in a room with a ceiling panel 1 mm under the ceiling, 8e-4 of
+  // the power, every surface's irradiance that much low.
   std::vector<double> open_area;
 
   bool has_children(int e) const { return elements[e].first_child >= 0; }
@@ -78,7 +78,7 @@ struct ElementForest {
   // rays (16 where they disagree, stratified over the element) resolve its visible share to about a
   // sixteenth, so where the open part is smaller than that, one ray that reached it would make the
   // open leaves many times brighter than the source could (an element of 256 leaves with one open,
-  // in the 70 000-patch furnished room); there the excess is lost, as all of it was before.
+  // in the 70 000-patch furnished room); there the excess is lost.
   static constexpr double kMaxOpenSpread = 16;
   double open_spread(int e) const {
     if (open_area.empty()) return 1.0;
