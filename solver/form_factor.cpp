@@ -138,6 +138,13 @@ double point_triangle_factor(const Point3& p, const Vector3& n, const Triangle& 
   return point_polygon_factor(p, n, std::span<const Point3>(t.v.data(), 3));
 }
 
+Vector3 triangle_vector_factor(const Point3& p, const Triangle& t) {
+  const Vector3 R[3] = {t.v[0] - p, t.v[1] - p, t.v[2] - p};
+  if (dot(R[0], cross(t.v[1] - t.v[0], t.v[2] - t.v[0])) >= 0) return {};  // p not in front
+  const double scale = 1 / (2 * kPi);
+  return {contour_sum({1, 0, 0}, R, 3) * scale, contour_sum({0, 1, 0}, R, 3) * scale, contour_sum({0, 0, 1}, R, 3) * scale};
+}
+
 // Compiled twice, for AVX2 (4 lanes per instruction) and for the baseline x86-64 (2), and chosen at
 // load time. Neither uses FMA ("avx2" does not enable it), so both round as point_triangle_factor does.
 __attribute__((target_clones("avx2", "default"))) void point_triangle_factors(std::span<const Point3> points,

@@ -20,6 +20,11 @@ namespace lambert {
 // 16 vertices (it is clipped, which adds at most one vertex per clipping plane).
 double point_polygon_factor(const Point3& p, const Vector3& n, std::span<const Point3> polygon);
 double point_triangle_factor(const Point3& p, const Vector3& n, const Triangle& t);
+// The vector form factor of t at p, V = (1/2π) Σ_i γ_i ĉ_i (ĉ_i the unit normal of the plane through p
+// and edge i): n · V = point_triangle_factor(p, n, t) for every unit n whose horizon leaves t wholly in
+// front (the contour sum is linear in n there), so one V serves receivers of any such normal at p.
+// Zero where p is not in front of t.
+Vector3 triangle_vector_factor(const Point3& p, const Triangle& t);
 // point_triangle_factor at every point of `points` (a common normal n), into out (the same size).
 // Points in the common case (t in front and wholly above the horizon: all but points next to t's
 // plane) are evaluated together in vectorised lanes, the rest one by one; each value is

@@ -134,6 +134,11 @@ double one_point_error(const ClusterView& view, double scale, double d, double d
   return (view.projected * scale / d + view.uncertainty + view.turning) / (kPi * d_min * d_min);
 }
 
+double vector_estimate_error(double source_area, double receivers_radius, double centre_to_source) {
+  const double near = centre_to_source - receivers_radius;
+  return source_area / kPi * (1 / (near * near) - 1 / (centre_to_source * centre_to_source));
+}
+
 double unseen_transfer(const Cluster& C, const ClusterView& view, bool receiver_faces, double sin_delta, double d_min) {
   return max_projected(C) * (view.projected > 0 ? 1 : sin_delta) * (receiver_faces ? 1 : sin_delta) /
          (kPi * d_min * d_min);

@@ -85,6 +85,14 @@ ClusterView cluster_view(const ClusterTree& tree, int c, const Vector3& w, doubl
 //     seen edge-on from its centre's direction may face the receiver along the others. Along those,
 //     the cosine on the side that misses is at most sin δ, so what passes is at most this.
 double one_point_error(const ClusterView& view, double scale, double d, double d_min);
+// The bound on an element source's vector estimate (Refiner::refine_pair): receivers within r_R of the
+// point c where the source's vector factor V was taken, each of whose horizons leaves the whole source
+// in front, receive n · V(x) exactly, and |n · (V(x) − V(c))| ≤ ∫₀¹ |DV(c + t (x − c))| r_R dt.
+// V(x) = (1/π) ∫_S (n_S · z) (−z) / |z|⁴ dA with z = x − y; the integrand's derivative has operator
+// norm √((4a² + 1 + √(8a² + 1)) / 2) / |z|³ ≤ 2 / |z|³ (a = n_S · ẑ; its singular values in the basis ẑ,
+// the part of n_S across ẑ), and |z| ≥ D − t r_R where D bounds the distance from c to the source
+// from below. The integral gives A/π (1/(D − r_R)² − 1/D²) per unit radiosity.
+double vector_estimate_error(double source_area, double receivers_radius, double centre_to_source);
 double unseen_transfer(const Cluster& C, const ClusterView& view, bool receiver_faces, double sin_delta, double d_min);
 
 // Whether some corner of `box` lies more than `tol` in front of the plane through o with normal n.

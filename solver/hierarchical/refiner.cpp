@@ -235,13 +235,24 @@ void Refiner::refine_pair(int rc, int s, bool from_cluster, LinkBatch& out) cons
     view.turning = turning_area(E.area, dot(E.normal, w), sin_delta);
   }
   const double B = from_cluster ? cluster_B_[s] : element_B_[s];
+  const double weight = area_weight(R.area);
+  const double shown = from_cluster ? max_projected(h_.clusters[s]) : h_.elements[s].area;  // along any direction
+  // Where α + θ + δ > π/2 a receiver's horizon may cut the source: V = Σ Ψ u gives it n · u, negative
+  // on the part behind the horizon where (n · u)⁺ is 0. Along those directions |n · u| is at most the
+  // sine of the excess, so the estimate errs by at most that times what the source shows, over π d_min².
+  const double excess = alpha + theta + delta - kPi / 2;
+  const double clipped = excess > 0 ? std::sin(excess) * shown / (kPi * d_min * d_min) * weight : 0;
+  if (!from_cluster && alpha + theta <= kPi / 2 && dot(h_.elements[s].normal, w) >= sin_delta) {
+    if (B * clipped > epsilon_) return split_receiver();
+    const double error_per_B = vector_estimate_error(h_.elements[s].area, R.radius, d - s_radius) * weight + clipped;
+    return B * error_per_B > epsilon_ ? split() : link_vector_estimate(rc, s, error_per_B, out);
+  }
   if (view.projected <= 0) {  // a link of factor 0, as in refine_to_cluster
-    const double shown = from_cluster ? max_projected(h_.clusters[s]) : h_.elements[s].area;
-    const double reach = shown * sin_delta / (kPi * d_min * d_min) * area_weight(R.area);
+    const double reach = shown * sin_delta / (kPi * d_min * d_min) * weight;
     return B * reach <= epsilon_ ? void() : split();
   }
-  const double error_per_B = one_point_error(view, scale, d, d_min) * area_weight(R.area);
-  if (alpha + theta > kPi / 2) return split_receiver();
+  const double error_per_B = one_point_error(view, scale, d, d_min) * weight + clipped;
+  if (alpha + theta > kPi / 2 || B * clipped > epsilon_) return split_receiver();
   if (B * error_per_B > epsilon_) return split();
   ClusterLink link;
   link.receiver = rc;
@@ -256,6 +267,20 @@ void Refiner::refine_pair(int rc, int s, bool from_cluster, LinkBatch& out) cons
   link.toward = {static_cast<float>(-w.x), static_cast<float>(-w.y), static_cast<float>(-w.z)};
   link.error_per_B = static_cast<float>(error_per_B);
   if (planes_.clear_cluster(rc, s, from_cluster)) out.cluster_links.push_back(link);  // wholly visible, no rays
+  else out.cluster_pending.push_back(link);
+}
+
+void Refiner::link_vector_estimate(int rc, int s, double error_per_B, LinkBatch& out) const {
+  const Vector3 V = triangle_vector_factor(h_.clusters[rc].centre, h_.elements[s].tri);
+  const double F = length(V);
+  if (!(F > 0)) return;
+  ClusterLink link;
+  link.receiver = rc;
+  link.source = s;
+  link.coeff[0] = static_cast<float>(F);
+  link.toward = {static_cast<float>(V.x / F), static_cast<float>(V.y / F), static_cast<float>(V.z / F)};
+  link.error_per_B = static_cast<float>(error_per_B);
+  if (planes_.clear_cluster(rc, s, false)) out.cluster_links.push_back(link);  // wholly visible, no rays
   else out.cluster_pending.push_back(link);
 }
 

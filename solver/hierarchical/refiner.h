@@ -64,10 +64,18 @@ class Refiner {
   // The refinement of the pair (receivers in cluster rc, source s: a cluster, or an element where
   // !from_cluster). A well separated pair links as a whole where the receivers' normals all face the
   // source (their cone lies in front of the direction between the centres, so (n · u)⁺ = n · u is
-  // linear and V = Σ Ψ u serves them all) and the oracle allows the one-point estimate; otherwise the
-  // larger side is split, the receivers where their normals are the obstacle. A receiver that is one
-  // root goes on as refine_to_cluster or refine_to_element.
+  // linear and V = Σ Ψ u serves them all) and the oracle allows the estimate, with what a receiver's
+  // horizon may cut off the source (the cone widened by the pair's angle δ) as part of its error;
+  // otherwise the larger side is split, the receivers where their normals are the obstacle. An element
+  // source facing every receiver is read by its vector factor (link_vector_estimate), any other by its
+  // one-point estimate. A receiver that is one root goes on as refine_to_cluster or refine_to_element.
   void refine_pair(int rc, int s, bool from_cluster, LinkBatch& out) const;
+  // A link into cluster rc from element s where the source faces every receiver and every receiver's
+  // normal faces the source's centre: it carries the source's vector factor at the cluster's centre
+  // (triangle_vector_factor), exact there for every normal whose horizon leaves the whole source in
+  // front, whatever the source's extent; refine_pair bounds the rest (vector_estimate_error, and the
+  // part a horizon may cut).
+  void link_vector_estimate(int rc, int s, double error_per_B, LinkBatch& out) const;
 
   // Traces the rays of the pending links, all at once as streams (16 per link before the first vote:
   // four unanimous rays between large elements miss small occluders; but four blocked rays may drop
