@@ -282,7 +282,7 @@ TEST(SkyLight, NeedsTheScene) {
   EXPECT_THROW(make_sky_light(light, LightContext{}), std::invalid_argument);
   light.model = SkyLight::Model::kGeneral, light.cie_type = 12;  // depends on the sun, none given
   const std::vector<Triangle> none;
-  EXPECT_THROW(make_sky_light(light, LightContext{none, nullptr, true}), std::invalid_argument);
+  EXPECT_THROW(make_sky_light(light, LightContext{none, nullptr, true, {}}), std::invalid_argument);
 }
 
 TEST(SkyLight, SkyAndGroundThroughAFacadeOpening) {
@@ -295,7 +295,7 @@ TEST(SkyLight, SkyAndGroundThroughAFacadeOpening) {
   light.model = SkyLight::Model::kUniform;
   light.ground_reflectance = 0.3;
   light.zenith_radiance_W_m2_sr_nm = {2.0, 3.0};
-  const auto model = make_sky_light(light, LightContext{room.triangles, nullptr, true});
+  const auto model = make_sky_light(light, LightContext{room.triangles, nullptr, true, {}});
   EXPECT_EQ(model->spectrum(), light.zenith_radiance_W_m2_sr_nm);
   EXPECT_EQ(model->flux_factor(), 0);
   const Point3 q{1.6, 1.3, 1.5};
@@ -335,7 +335,7 @@ TEST(SkyLight, PatchAverageUnderARoofOpening) {
   SkyLight light;
   light.model = SkyLight::Model::kUniform;
   light.zenith_radiance_W_m2_sr_nm = {1.0};
-  const auto model = make_sky_light(light, LightContext{room.triangles, nullptr, true});
+  const auto model = make_sky_light(light, LightContext{room.triangles, nullptr, true, {}});
   const Triangle t{{Point3{1.2, 1.1, 0}, Point3{1.7, 1.2, 0}, Point3{1.4, 1.6, 0}}};
   auto factor = [](const Point3& p) { return kPi * test::point_under_rectangle(p.x, p.y, 3, 1.5, 2.5, 1.5, 2.5); };
   const double coarse = centroid_rule_mean(t, 40, factor), fine = centroid_rule_mean(t, 80, factor);

@@ -53,7 +53,10 @@ std::string view_factors_view3d(const ViewFactorMatrix& m, const std::vector<dou
   out.resize(std::max<std::size_t>(out.size(), 30), ' ');  // View3D pads its header to 30 characters
   out += "\n";
   auto row = [&](auto value) {
-    for (std::size_t k = 0; k < S; ++k) out += (k ? " " : "") + value(k);
+    for (std::size_t k = 0; k < S; ++k) {
+      if (k) out += ' ';
+      out += value(k);
+    }
     out += "\n";
   };
   row([&](std::size_t I) { return ten_digits(m.area_m2[I]); });
