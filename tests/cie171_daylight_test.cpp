@@ -282,8 +282,9 @@ void run_case(const json& surfaces, bool ceiling, double ground, const TableAt& 
         EXPECT_NEAR(got[q], want, 1e-6) << "sky type " << type << ", probe " << q;
         ++exact_checked;
       }
-      if (!std::isnan(printed))
+      if (!std::isnan(printed)) {
         EXPECT_NEAR(got[q], printed, abs + rel * printed) << "sky type " << type << ", probe " << q << " (table)";
+      }
     }
   }
   EXPECT_GT(exact_checked, 0);

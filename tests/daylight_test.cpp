@@ -137,7 +137,7 @@ TEST(SkyThroughTheSolve, UniformSkyThroughARoofOpeningIsALambertianEmitter) {
   const double L = 2000;
   const std::vector<Point3> points = {{2, 2, 0}, {1.7, 2.2, 0}, {0.3, 3.1, 0}, {3.9, 0.2, 0}};
   json probes = json::array();
-  for (std::size_t k = 0; k < points.size(); ++k) probes.push_back(probe("p" + std::to_string(k), points[k], {0, 0, 1}));
+  for (std::size_t k = 0; k < points.size(); ++k) probes.push_back(probe(std::string("p").append(std::to_string(k)), points[k], {0, 0, 1}));
   const json open = solve_json(scene_with(room_with_roof_opening("black"),
                                           json::array({sky("uniform", "zenith_luminance_cd_m2", L)}), probes));
   json surfaces = room_with_roof_opening("black");

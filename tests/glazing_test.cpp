@@ -44,7 +44,7 @@ json pane_material(double rho, json tau, const std::string& kind = "diffuse") {
 
 json floor_probes(const std::vector<Point3>& points) {
   json probes = json::array();
-  for (std::size_t k = 0; k < points.size(); ++k) probes.push_back(probe("p" + std::to_string(k), points[k], {0, 0, 1}));
+  for (std::size_t k = 0; k < points.size(); ++k) probes.push_back(probe(std::string("p").append(std::to_string(k)), points[k], {0, 0, 1}));
   return probes;
 }
 

@@ -85,7 +85,7 @@ TEST(SceneLimits, TheResultSizeBoundHoldsForEveryPartOfAResult) {
 TEST(SceneLimits, ProbePointsAreCountedAcrossEveryProbe) {
   json scene = floor_scene(41);
   scene["probes"] = json::array();
-  for (int k = 0; k < 100; ++k) scene["probes"].push_back(grid_probe("g" + std::to_string(k), 1000, 1000));
+  for (int k = 0; k < 100; ++k) scene["probes"].push_back(grid_probe(std::string("g").append(std::to_string(k)), 1000, 1000));
   const DecodeResult r = decode_scene(scene.dump());
   ASSERT_FALSE(r.ok());
   EXPECT_EQ(r.error_count(), 99u);  // the first grid fits, every later one would exceed
@@ -96,7 +96,7 @@ TEST(SceneLimits, ProbePointsAreCountedAcrossEveryProbe) {
   json five = floor_scene(41);
   five["probes"] = json::array();
   for (int k = 0; k < 5; ++k)
-    five["probes"].push_back({{"name", "p" + std::to_string(k)}, {"position", {0.5, 0, 0.5}}, {"normal", {0, 1, 0}}});
+    five["probes"].push_back({{"name", std::string("p").append(std::to_string(k))}, {"position", {0.5, 0, 0.5}}, {"normal", {0, 1, 0}}});
   const DecodeResult r5 = decode_scene(five.dump(), {}, SceneLimits{4, 0, 0});
   ASSERT_EQ(r5.errors.size(), 1u) << format_errors(r5);
   EXPECT_EQ(r5.errors[0].pointer, "/probes/4");
@@ -107,7 +107,7 @@ TEST(SceneLimits, CheckRefusesAHundredMillionProbePointsWithoutTakingTheMemory) 
   ScratchDir dir("lambert_limits");
   json scene = floor_scene(41);
   scene["probes"] = json::array();
-  for (int k = 0; k < 100; ++k) scene["probes"].push_back(grid_probe("g" + std::to_string(k), 1000, 1000));
+  for (int k = 0; k < 100; ++k) scene["probes"].push_back(grid_probe(std::string("g").append(std::to_string(k)), 1000, 1000));
   testing::write_file(dir / "probes.json", scene.dump());
   const ChildOutcome r = testing::run_lambert({"check", (dir / "probes.json").string()});
   EXPECT_EQ(r.status, 2) << r.err.substr(0, 1000);

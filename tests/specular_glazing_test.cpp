@@ -96,7 +96,7 @@ json glazed_room(const std::string& material, const std::string& glass, json lig
   json surfaces = room_with_roof_opening(material);
   if (!glass.empty()) surfaces.push_back(rectangle("pane", glass, {1.5, 1.5, 3}, {0, 1, 0}, {1, 0, 0}));
   json probes = json::array();
-  for (std::size_t k = 0; k < at.size(); ++k) probes.push_back(probe("p" + std::to_string(k), at[k], {0, 0, 1}));
+  for (std::size_t k = 0; k < at.size(); ++k) probes.push_back(probe(std::string("p").append(std::to_string(k)), at[k], {0, 0, 1}));
   json scene = scene_with(surfaces, std::move(lights), probes, method);
   scene["spectrum"] = {{"mode", "spectral"}, {"wavelengths_nm", kNm}};
   return scene;
