@@ -153,7 +153,7 @@ std::optional<std::string> find_layout(const Header& h, Layout& layout) {
       layout.vertex_element = static_cast<int>(k);
       for (std::size_t p = 0; p < e.properties.size(); ++p)
         for (int a = 0; a < 3; ++a)
-          if (e.properties[p].name == std::string_view("xyz" + a, 1)) {
+          if (e.properties[p].name == std::string_view("xyz").substr(a, 1)) {
             if (e.properties[p].list) return at(std::string("vertex property ") + "xyz"[a] + " must not be a list");
             layout.xyz[a] = static_cast<int>(p);
           }
