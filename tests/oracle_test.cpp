@@ -122,5 +122,45 @@ TEST(VectorEstimate, BoundsTheFactorAnywhereInTheReceiversBallOnEveryNormalThatS
   EXPECT_GT(worst_ratio, 0.4);
 }
 
+TEST(VectorEstimate, WhereAHorizonCutsTheSourceTheCutPartJoinsTheBound) {
+  // The receivers' normals now turn up to π/2 − δ + ε from the direction back to the source, so a
+  // receiver's horizon may cut it: the exact point factor (clipped at the horizon) differs from n · V(c)
+  // by at most vector_estimate_error plus horizon_cut_error(sin(turn + δ − π/2), A, d_min), the part
+  // behind the horizon counted at |n · u| ≤ sin of the excess. Some cases must cut (else this would
+  // test nothing new), and the worst must come near the bound.
+  std::mt19937 rng(13);
+  std::uniform_real_distribution<double> u(-1, 1), unit(0, 1);
+  int checked = 0, cut = 0;
+  double worst_ratio = 0;
+  while (checked < 20000) {
+    const Triangle t{{Point3{u(rng), u(rng), u(rng)}, Point3{u(rng), u(rng), u(rng)}, Point3{u(rng), u(rng), u(rng)}}};
+    const Vector3 w = normalize(Vector3{u(rng), u(rng), u(rng)});
+    const double r_S = t.bounding_radius(), r = 0.05 + 2 * unit(rng);
+    const double d = (2.5 + 10 * unit(rng) * unit(rng)) * (r + r_S), d_min = d - r - r_S;
+    const double sin_delta = (r + r_S) / d, delta = std::asin(sin_delta);
+    if (dot(t.normal(), w) < sin_delta) continue;
+    const Point3 c = t.centroid() + d * w;
+    const Vector3 V = triangle_vector_factor(c, t);
+    const Vector3 offset{u(rng), u(rng), u(rng)};
+    if (length(offset) > 1) continue;
+    const Point3 x = c + r * offset;
+    const Vector3 side = normalize(cross(w, Vector3{u(rng), u(rng), u(rng)}));
+    const double turn = (kPi / 2 - delta) + 2 * delta * unit(rng);  // α: up to δ past π/2 − δ
+    const Vector3 n = -std::cos(turn) * w + std::sin(turn) * side;
+    const double excess = turn + delta - kPi / 2;
+    const double bound = vector_estimate_error(t.area(), r, d - r_S) +
+                         (excess > 0 ? horizon_cut_error(std::sin(excess), t.area(), d_min) : 0);
+    bool crosses = false;
+    for (const Point3& v : t.v) crosses = crosses || dot(v - x, n) < 0;
+    cut += crosses;
+    const double error = std::abs(point_triangle_factor(x, n, t) - dot(n, V));
+    EXPECT_LE(error, bound * (1 + 1e-9)) << checked;
+    worst_ratio = std::max(worst_ratio, error / bound);
+    ++checked;
+  }
+  EXPECT_GT(cut, 1000);
+  EXPECT_GT(worst_ratio, 0.15);
+}
+
 }  // namespace
 }  // namespace lambert::hierarchical

@@ -139,6 +139,10 @@ double vector_estimate_error(double source_area, double receivers_radius, double
   return source_area / kPi * (1 / (near * near) - 1 / (centre_to_source * centre_to_source));
 }
 
+double horizon_cut_error(double sin_excess, double shown, double d_min) {
+  return sin_excess * shown / (kPi * d_min * d_min);
+}
+
 double unseen_transfer(const Cluster& C, const ClusterView& view, bool receiver_faces, double sin_delta, double d_min) {
   return max_projected(C) * (view.projected > 0 ? 1 : sin_delta) * (receiver_faces ? 1 : sin_delta) /
          (kPi * d_min * d_min);

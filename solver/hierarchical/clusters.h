@@ -93,6 +93,12 @@ double one_point_error(const ClusterView& view, double scale, double d, double d
 // the part of n_S across ẑ), and |z| ≥ D − t r_R where D bounds the distance from c to the source
 // from below. The integral gives A/π (1/(D − r_R)² − 1/D²) per unit radiosity.
 double vector_estimate_error(double source_area, double receivers_radius, double centre_to_source);
+// What a link into clusters errs by where a receiver's horizon may cut the source (Refiner::refine_pair):
+// V gives a receiver n · u along every direction u to the source, negative behind its horizon where
+// the exact kernel has (n · u)⁺ = 0. With the receivers' normals within α + θ of the direction to the
+// source and the directions within δ of it, n · u ≥ −sin(α + θ + δ − π/2) there, so the part behind
+// the horizon adds at most sin of that excess times the area the source shows, over π d_min².
+double horizon_cut_error(double sin_excess, double shown, double d_min);
 double unseen_transfer(const Cluster& C, const ClusterView& view, bool receiver_faces, double sin_delta, double d_min);
 
 // Whether some corner of `box` lies more than `tol` in front of the plane through o with normal n.

@@ -237,11 +237,9 @@ void Refiner::refine_pair(int rc, int s, bool from_cluster, LinkBatch& out) cons
   const double B = from_cluster ? cluster_B_[s] : element_B_[s];
   const double weight = area_weight(R.area);
   const double shown = from_cluster ? max_projected(h_.clusters[s]) : h_.elements[s].area;  // along any direction
-  // Where α + θ + δ > π/2 a receiver's horizon may cut the source: V = Σ Ψ u gives it n · u, negative
-  // on the part behind the horizon where (n · u)⁺ is 0. Along those directions |n · u| is at most the
-  // sine of the excess, so the estimate errs by at most that times what the source shows, over π d_min².
+  // Where α + θ + δ > π/2 a receiver's horizon may cut the source (horizon_cut_error).
   const double excess = alpha + theta + delta - kPi / 2;
-  const double clipped = excess > 0 ? std::sin(excess) * shown / (kPi * d_min * d_min) * weight : 0;
+  const double clipped = excess > 0 ? horizon_cut_error(std::sin(excess), shown, d_min) * weight : 0;
   if (!from_cluster && alpha + theta <= kPi / 2 && dot(h_.elements[s].normal, w) >= sin_delta) {
     if (B * clipped > epsilon_) return split_receiver();
     const double error_per_B = vector_estimate_error(h_.elements[s].area, R.radius, d - s_radius) * weight + clipped;
