@@ -284,7 +284,17 @@ void Refiner::link_vector_estimate(int rc, int s, double error_per_B, LinkBatch&
 
 void Refiner::resolve(LinkBatch& out) const {
   resolve_cluster_links(out);
-  if (out.pending.empty()) return;
+  // Pairs that their rays found partly visible and over the budget are split (resolve_pending), and
+  // their children may wait for rays in turn (split adds to out.pending and never resolves).
+  std::vector<std::pair<int, int>> resplit;
+  while (!out.pending.empty()) {
+    resplit.clear();
+    resolve_pending(out, resplit);
+    for (const auto& [r, s] : resplit) split(r, s, out);
+  }
+}
+
+void Refiner::resolve_pending(LinkBatch& out, std::vector<std::pair<int, int>>& resplit) const {
   thread_local std::vector<double> fraction;
   fraction.resize(out.pending.size());
   // Links whose whole unoccluded transfer is within the oracle's budget ε may be found hidden by 4
@@ -337,6 +347,20 @@ void Refiner::resolve(LinkBatch& out) const {
       continue;
     }
     Link link = out.pending[l];
+    // A link its rays found partly visible gives every leaf below its receiver the same visible
+    // fraction v, where a leaf may see all of the source or none of it: the leaf's error is up to
+    // F max(v, 1 − v), not the F / 2 that refine_to_element budgeted before the rays.
+    const double v = fraction[l];
+    if (v < 1 && !link.from_cluster && !factor_pending(link)) {
+      const double weight = area_weight(h_.elements[link.receiver].area);
+      const double visibility_error = link.mean_factor() * std::max(v, 1 - v) * weight;  // per unit B
+      if (element_B_[link.source] * visibility_error > epsilon_) {
+        resplit.emplace_back(link.receiver, link.source);
+        continue;
+      }
+      // error_per_B holds the F / 2 of refine_to_element: the rest of the bound joins it.
+      link.error_per_B = static_cast<float>(link.error_per_B + visibility_error - 0.5 * link.mean_factor() * weight);
+    }
     if (factor_pending(link)) {  // two leaves (link_leaves): the mean factor, now
       const double F = leaf_exchange(link.receiver, link.source) / h_.elements[link.receiver].area;
       if (!(F > 0)) continue;

@@ -6,7 +6,10 @@
 // A_receiver / (4 patch areas)) ≤ ε = solver.accuracy × (mean radiosity); otherwise the larger side
 // is split. An element link carries the exact point-to-polygon kernel fitted by a linear function over
 // the receiver (10 points; its residual is the link's error) times a kernel-weighted ray-traced visible
-// fraction (16 rays, 64 where they disagree; none where the pair's shaft is clear); a link from a
+// fraction (16 rays, 64 where they disagree; none where the pair's shaft is clear), whose error is
+// F / 2 before the rays and F max(v, 1 − v) once they find a visible fraction v below 1 (every leaf
+// below takes v, and a leaf may see all of the source or none: docs/BENCHMARKS.md, "Where a faceted
+// room's patch errors come from"); a link from a
 // cluster carries a one-point estimate of the cluster's intensity (clusters.h), erring by about the
 // pair's relative size; a link into a cluster needs the pair well separated (2.5 × the radii's sum).
 #pragma once
@@ -15,6 +18,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "solver/exact_visibility.h"
@@ -85,6 +89,9 @@ class Refiner {
   // weighted by the differential kernel with the sampled element's own normal (elements of the
   // cluster that face away, often hidden by the cluster itself, weigh nothing).
   void resolve(LinkBatch& out) const;
+  // One pass of resolve over the pending element links; the pairs found partly visible beyond the
+  // budget go to `resplit` instead of `out`.
+  void resolve_pending(LinkBatch& out, std::vector<std::pair<int, int>>& resplit) const;
 
   // The rays of links into clusters: between samples of the receiving cluster's roots and of the
   // source's, each weighted by the kernel with both samples' own normals; 16 before the first vote.
