@@ -333,8 +333,7 @@ TEST(Hierarchical, ThePenumbraOfAPlateHoldsTheBudgetOfItsPartlyVisibleLinks) {
   // the source or none, so such a link is kept only if B F max(v, 1 − v) is within the budget
   // ε = accuracy × mean radiosity (here 1e-3 × 24/108 = 2.2e-4). Measured, in units of the floor's
   // M: with F / 2, the bound budgeted before the rays, worst 3.9e-3 and rms 7.9e-4 (about 18 ε and
-  // 3.6 ε: the links into a leaf in the penumbra err alike); with the bound after the rays, worst
-  // 2.0e-3 and rms 5.5e-4.
+  // 3.6 ε); with the bound after the rays, worst 2.0e-3 and rms 5.5e-4.
   SceneBuilder b;
   const int black = b.material("black", 0.0);
   for_each_box_face(Point3{0, 0, 0}, Point3{6, 4, 3}, [&](const Point3& o, const Vector3& u, const Vector3& v) {
@@ -357,20 +356,17 @@ TEST(Hierarchical, ThePenumbraOfAPlateHoldsTheBudgetOfItsPartlyVisibleLinks) {
     return F;
   };
   double worst = 0, sum2 = 0;
-  int n = 0, shaded = 0;
+  int n = 0;
   for (std::size_t i = 0; i < sol.patches.size(); ++i) {
     const Patch& P = sol.patches[i];
-    const Point3 c = P.triangle.centroid();
-    if (std::abs(c.z - 3) > 1e-9) continue;  // the ceiling
+    if (std::abs(P.triangle.centroid().z - 3) > 1e-9) continue;  // the ceiling
     const double exact = patch_mean_by_parts(P, [&](const Point3& x) { return visible_floor(x, P.normal); });
     const double error = sol.irradiance[i] - exact;
     worst = std::max(worst, std::abs(error));
     sum2 += error * error;
     ++n;
-    shaded += c.x > 1 && c.x < 5 && c.y > 0 && c.y < 4;
   }
   ASSERT_GT(n, 1000);
-  ASSERT_GT(shaded, 500);
   EXPECT_LT(worst, 3e-3);
   EXPECT_LT(std::sqrt(sum2 / n), 7e-4);
 }
