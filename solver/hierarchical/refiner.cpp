@@ -17,6 +17,9 @@ constexpr double kWellSeparated = 1.5;  // cluster links need d ≥ 1.5 (r_sourc
 // 1.5 the city block's surface means of the benchmarks fell by 3e-4, at 2.5 by less than 1e-4.
 constexpr double kReceiversSeparated = 2.5;
 constexpr std::size_t kResolveBatch = 4096;  // pending links traced together (Refiner::resolve)
+// The share of an element link's factor that counts as its visibility error before its rays, where
+// its shaft is not proven clear: they may find it anything from hidden to wholly visible.
+constexpr double kUnprovenVisibility = 0.5;
 constexpr double kCachedSeparation = 1.5;  // see Refiner::leaf_exchange
 
 template <std::size_t P>
@@ -120,7 +123,7 @@ void Refiner::refine_to_element(int r, int s, LinkBatch& out) const {
   // the lit sphere rooms 95 % of the tested pairs were of this kind and 0.7 % of them clear, so the
   // test (9 % of the solve's time, about 40 rays' worth) mostly bought nothing. Before either, the
   // occluder planes, a few word operations: a pair they clear is wholly visible.
-  const double uncertain = 0.5 * F;
+  const double uncertain = kUnprovenVisibility * F;
   bool clear = planes_.clear(r, s);
   if (!clear && B * uncertain * weight > epsilon_) {
     const std::array<Point3, 6> hull = {R.tri.v[0], R.tri.v[1], R.tri.v[2], S.tri.v[0], S.tri.v[1], S.tri.v[2]};
@@ -358,8 +361,9 @@ void Refiner::resolve_pending(LinkBatch& out, std::vector<std::pair<int, int>>& 
         resplit.emplace_back(link.receiver, link.source);
         continue;
       }
-      // error_per_B holds the F / 2 of refine_to_element: the rest of the bound joins it.
-      link.error_per_B = static_cast<float>(link.error_per_B + visibility_error - 0.5 * link.mean_factor() * weight);
+      // error_per_B holds refine_to_element's kUnprovenVisibility F: the rest of the bound joins it.
+      link.error_per_B =
+          static_cast<float>(link.error_per_B + visibility_error - kUnprovenVisibility * link.mean_factor() * weight);
     }
     if (factor_pending(link)) {  // two leaves (link_leaves): the mean factor, now
       const double F = leaf_exchange(link.receiver, link.source) / h_.elements[link.receiver].area;
