@@ -181,10 +181,16 @@ void Refiner::refine_to_cluster(int r, int c, LinkBatch& out) const {
     }
   }
   if (C.radius * kTie >= R.radius || !h_.has_children(r)) {
-    for (int ch : C.child) refine_to_cluster(r, ch, out);
+    for (int ch : C.child) {
+      refine_to_cluster(r, ch, out);
+      resolve_if_full(out);
+    }
   } else {
     const int first = h_.elements[r].first_child;
-    for (int k = 0; k < 4; ++k) refine_to_cluster(first + k, c, out);
+    for (int k = 0; k < 4; ++k) {
+      refine_to_cluster(first + k, c, out);
+      resolve_if_full(out);
+    }
   }
 }
 
@@ -192,7 +198,7 @@ void Refiner::refine_pair(int rc, int s, bool from_cluster, LinkBatch& out) cons
   const Cluster& R = h_.clusters[rc];
   if (R.root >= 0) {
     from_cluster ? refine_to_cluster(R.root, s, out) : refine_to_element(R.root, s, out);
-    if (out.pending.size() + out.cluster_pending.size() >= kResolveBatch) resolve(out);
+    resolve_if_full(out);
     return;
   }
   if (from_cluster && h_.clusters[s].root >= 0) return refine_pair(rc, h_.clusters[s].root, false, out);
@@ -473,11 +479,14 @@ void Refiner::split(int r, int s, LinkBatch& out) const {
   const Element& R = h_.elements[r];
   const Element& S = h_.elements[s];
   const bool split_receiver = h_.has_children(r) && (!h_.has_children(s) || R.area * kTie >= S.area);
-  if (split_receiver) {
-    for (int k = 0; k < 4; ++k) refine_to_element(R.first_child + k, s, out);
-  } else {
-    for (int k = 0; k < 4; ++k) refine_to_element(r, S.first_child + k, out);
+  for (int k = 0; k < 4; ++k) {
+    split_receiver ? refine_to_element(R.first_child + k, s, out) : refine_to_element(r, S.first_child + k, out);
+    resolve_if_full(out);
   }
+}
+
+void Refiner::resolve_if_full(LinkBatch& out) const {
+  if (out.pending.size() + out.cluster_pending.size() >= kResolveBatch) resolve(out);
 }
 
 }  // namespace lambert::hierarchical

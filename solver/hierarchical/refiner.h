@@ -127,6 +127,13 @@ class Refiner {
   // Splits the larger element of the pair (or the one that can be split) and links the children.
   void split(int r, int s, LinkBatch& out) const;
 
+  // Traces the pending links once they fill a batch (kResolveBatch). Asked after each child of a
+  // split, not only once per pair of the cluster tree: a pair of one large root (a room's floor, its
+  // element tree of 10⁵ leaves) and a large source cluster yields millions of pending links, and the
+  // rays of a batch are held together (weighted_visible_fractions: 64 bytes a ray, 16 rays a link).
+  // Where the links are traced does not change what they are: each link's rays are its own.
+  void resolve_if_full(LinkBatch& out) const;
+
   const Hierarchy& h_;
   const Visibility& vis_;
   const ExactVisibility& shafts_;
