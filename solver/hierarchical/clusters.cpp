@@ -1,6 +1,8 @@
 #include "solver/hierarchical/clusters.h"
 
 #include <algorithm>
+#include <array>
+#include <limits>
 
 #include "solver/visible_fraction.h"
 
@@ -16,9 +18,79 @@ ClusterTree::ClusterSample cluster_sample(const ClusterTree& h, const Cluster& C
 
 namespace {
 
-// Builds the BVH over root_order[first, first + count) (median split on the longest axis of the
-// centroids); returns the cluster's index. Children are appended after their parent.
-int build_clusters(ClusterTree& h, const ElementForest& f, int first, int count) {
+// Below this depth every split is the median one, which bounds the tree's depth whatever the areas
+// (an area split may peel off one root at a time).
+constexpr int kAreaSplitDepth = 48;
+constexpr int kSplitBins = 16;
+
+// The area split of root_order[first, first + count): the centroids binned along each axis, and the
+// cut between bins that minimises Σ (half the surface area of a child's box × its roots), the surface
+// area heuristic of ray-tracing BVHs (MacDonald & Booth 1990; pbrt-v4's BVHAggregate). A pair of
+// clusters links as a whole only where it is well separated (d ≥ 2.5 × the radii's sum), and the
+// median of the centroids may put flat ground and the walls standing on it, or parts of two
+// buildings, in one box. Partitions the roots and returns the left child's count, or 0 where no cut
+// leaves both sides non-empty.
+int area_split(ClusterTree& h, const ElementForest& f, int first, int count, const Bounds3& centroids) {
+  struct Bin {
+    Bounds3 box;
+    int roots = 0;
+  };
+  auto coord = [](const auto& p, int axis) { return axis == 0 ? p.x : axis == 1 ? p.y : p.z; };
+  auto merge = [](Bounds3& into, const Bounds3& b) {
+    if (!b.empty()) into.add(b.lo), into.add(b.hi);
+  };
+  auto half_area = [](const Bounds3& b) {
+    const Vector3 d = b.diagonal();
+    return d.x * d.y + d.y * d.z + d.z * d.x;
+  };
+  const Point3 lo = centroids.lo;
+  const Vector3 extent = centroids.diagonal();
+  auto bin_of = [&](int e, int axis) {
+    const double t = (coord(f.elements[e].centre, axis) - coord(lo, axis)) / coord(extent, axis);
+    return std::clamp(static_cast<int>(kSplitBins * t), 0, kSplitBins - 1);
+  };
+  double best = std::numeric_limits<double>::infinity();
+  int best_axis = -1, best_cut = 0;  // the left child takes bins [0, best_cut]
+  for (int axis = 0; axis < 3; ++axis) {
+    if (!(coord(extent, axis) > 0)) continue;
+    std::array<Bin, kSplitBins> bins;
+    for (int k = first; k < first + count; ++k) {
+      const int e = h.root_order[k];
+      Bin& b = bins[bin_of(e, axis)];
+      ++b.roots;
+      merge(b.box, bounds(f.elements[e].tri));
+    }
+    std::array<double, kSplitBins> right_cost{};  // of bins [b, end)
+    Bounds3 box;
+    int roots = 0;
+    for (int b = kSplitBins - 1; b > 0; --b) {
+      merge(box, bins[b].box);
+      roots += bins[b].roots;
+      right_cost[b] = half_area(box) * roots;
+    }
+    box = Bounds3{};
+    roots = 0;
+    for (int b = 0; b + 1 < kSplitBins; ++b) {
+      merge(box, bins[b].box);
+      roots += bins[b].roots;
+      if (roots == 0 || roots == count) continue;
+      const double cost = half_area(box) * roots + right_cost[b + 1];
+      if (cost < best) best = cost, best_axis = axis, best_cut = b;
+    }
+  }
+  if (best_axis < 0) return 0;
+  const auto middle = std::partition(h.root_order.begin() + first, h.root_order.begin() + first + count,
+                                     [&](int e) { return bin_of(e, best_axis) <= best_cut; });
+  return static_cast<int>(middle - (h.root_order.begin() + first));
+}
+
+// Builds the BVH over root_order[first, first + count); returns the cluster's index. Children are
+// appended after their parent. A cluster whose normals are all axis-aligned (buildings, rooms and
+// their furniture) is split by area_split: its projected area is exact from its bins whatever its
+// shape, and what its links need of it is a small box. Any other is split at the median of its
+// centroids along their longest axis: area splits of faceted spheres gave their links into clusters
+// larger errors (docs/BENCHMARKS.md, "The cluster tree's splits").
+int build_clusters(ClusterTree& h, const ElementForest& f, int first, int count, int depth = 0) {
   const int index = static_cast<int>(h.clusters.size());
   h.clusters.emplace_back();
   FacetBounds facets;
@@ -44,17 +116,20 @@ int build_clusters(ClusterTree& h, const ElementForest& f, int first, int count)
     h.clusters[index].slot = f.root_slot(h.root_order[first]);
     return index;
   }
-  const Vector3 extent = centroids.diagonal();
-  const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
-  auto key = [&](int e) {
-    const Point3& p = f.elements[e].centre;
-    return axis == 0 ? p.x : axis == 1 ? p.y : p.z;
-  };
-  const int half = count / 2;
-  std::nth_element(h.root_order.begin() + first, h.root_order.begin() + first + half,
-                   h.root_order.begin() + first + count, [&](int a, int b) { return key(a) < key(b); });
-  const int left = build_clusters(h, f, first, half);
-  const int right = build_clusters(h, f, first + half, count - half);
+  int half = facets.axis_normals && depth < kAreaSplitDepth ? area_split(h, f, first, count, centroids) : 0;
+  if (half == 0) {
+    const Vector3 extent = centroids.diagonal();
+    const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
+    auto key = [&](int e) {
+      const Point3& p = f.elements[e].centre;
+      return axis == 0 ? p.x : axis == 1 ? p.y : p.z;
+    };
+    half = count / 2;
+    std::nth_element(h.root_order.begin() + first, h.root_order.begin() + first + half,
+                     h.root_order.begin() + first + count, [&](int a, int b) { return key(a) < key(b); });
+  }
+  const int left = build_clusters(h, f, first, half, depth + 1);
+  const int right = build_clusters(h, f, first + half, count - half, depth + 1);
   h.clusters[index].child[0] = left;
   h.clusters[index].child[1] = right;
   return index;
