@@ -18,8 +18,8 @@ ClusterTree::ClusterSample cluster_sample(const ClusterTree& h, const Cluster& C
 
 namespace {
 
-// Below this depth every split is the median one, which bounds the tree's depth whatever the areas
-// (an area split may peel off one root at a time).
+// From this depth down every split is the median one, which bounds the tree's depth whatever the
+// areas (an area split may peel off one root at a time).
 constexpr int kAreaSplitDepth = 48;
 constexpr int kSplitBins = 16;
 
