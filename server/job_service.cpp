@@ -16,6 +16,7 @@
 #include <iostream>
 #include <map>
 #include <mutex>
+#include <shared_mutex>
 #include <thread>
 #include <vector>
 
@@ -65,6 +66,10 @@ struct JobService::Impl {
   JobServiceOptions options;
 
   std::mutex mutex;
+  // A submission's "queued" line comes before the "running" line of a worker that claims the job:
+  // a submission holds this shared from its store call to its log line, and a worker takes it alone
+  // to log "running" (a worker polling the store can claim the job before the submitter has logged).
+  std::shared_mutex log_order;
   std::condition_variable work_cv;   // workers: new work here, or stopping
   std::condition_variable done_cv;   // solve_now and drain: a solve ended
   std::deque<std::shared_ptr<SyncJob>> sync_queue;
@@ -139,6 +144,7 @@ SubmitOutcome JobService::submit(const std::string& scene_json, const std::strin
     std::lock_guard lock(s.mutex);
     if (s.draining) return ShuttingDown{};
   }
+  std::shared_lock order(s.log_order);
   SubmitOutcome out = s.store->submit(scene_json, cache_key, s.options.queue_size);
   const auto* status = std::get_if<JobStatus>(&out);
   {
@@ -150,6 +156,7 @@ SubmitOutcome JobService::submit(const std::string& scene_json, const std::strin
   if (status)
     log_json({{"event", "job"}, {"id", status->id}, {"state", to_string(status->state)},
               {"cached", status->cached}, {"instance", s.options.instance}});
+  order.unlock();
   s.work_cv.notify_one();
   return out;
 }
@@ -353,8 +360,11 @@ void JobService::Impl::run_claim(const Claim& claim) {
     std::lock_guard lock(mutex);
     running.emplace(entry.get(), entry);
   }
-  log_json({{"event", "job"}, {"id", claim.id}, {"state", "running"}, {"attempt", claim.token},
-            {"instance", options.instance}});
+  {
+    std::unique_lock order(log_order);
+    log_json({{"event", "job"}, {"id", claim.id}, {"state", "running"}, {"attempt", claim.token},
+              {"instance", options.instance}});
+  }
   const auto start = SteadyClock::now();
   const Ended ended = solve(claim.scene_json, &claim, *entry);
   const double seconds = std::chrono::duration<double>(SteadyClock::now() - start).count();
