@@ -35,7 +35,6 @@ int area_split(ClusterTree& h, const ElementForest& f, int first, int count, con
     Bounds3 box;
     int roots = 0;
   };
-  auto coord = [](const auto& p, int axis) { return axis == 0 ? p.x : axis == 1 ? p.y : p.z; };
   auto merge = [](Bounds3& into, const Bounds3& b) {
     if (!b.empty()) into.add(b.lo), into.add(b.hi);
   };
@@ -46,13 +45,13 @@ int area_split(ClusterTree& h, const ElementForest& f, int first, int count, con
   const Point3 lo = centroids.lo;
   const Vector3 extent = centroids.diagonal();
   auto bin_of = [&](int e, int axis) {
-    const double t = (coord(f.elements[e].centre, axis) - coord(lo, axis)) / coord(extent, axis);
+    const double t = (f.elements[e].centre[axis] - lo[axis]) / extent[axis];
     return std::clamp(static_cast<int>(kSplitBins * t), 0, kSplitBins - 1);
   };
   double best = std::numeric_limits<double>::infinity();
   int best_axis = -1, best_cut = 0;  // the left child takes bins [0, best_cut]
   for (int axis = 0; axis < 3; ++axis) {
-    if (!(coord(extent, axis) > 0)) continue;
+    if (!(extent[axis] > 0)) continue;
     std::array<Bin, kSplitBins> bins;
     for (int k = first; k < first + count; ++k) {
       const int e = h.root_order[k];
@@ -120,10 +119,7 @@ int build_clusters(ClusterTree& h, const ElementForest& f, int first, int count,
   if (half == 0) {
     const Vector3 extent = centroids.diagonal();
     const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
-    auto key = [&](int e) {
-      const Point3& p = f.elements[e].centre;
-      return axis == 0 ? p.x : axis == 1 ? p.y : p.z;
-    };
+    auto key = [&](int e) { return f.elements[e].centre[axis]; };
     half = count / 2;
     std::nth_element(h.root_order.begin() + first, h.root_order.begin() + first + half,
                      h.root_order.begin() + first + count, [&](int a, int b) { return key(a) < key(b); });
