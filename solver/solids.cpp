@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <numbers>
 #include <numeric>
 
 namespace lambert {
@@ -146,6 +147,56 @@ Components components(const std::vector<Surface>& surfaces) {
   return out;
 }
 
+// Whether a closed solid of triangles `faces` (of c) is convex, by local tests that cost O(faces): every
+// edge has exactly one triangle running back along it, whose third corner lies on or behind this
+// triangle's plane (the dihedral angle is at most π); the angles at each corner sum to at most 2π;
+// and V − E + F = 2. Such a surface is locally convex and its Gauss map covers the sphere once, so by
+// Hadamard's theorem it bounds a convex body. (A sphere of 20 480 facets would need 2 × 10⁸ corner–face
+// checks the global way.) False where the mesh is not such a manifold (T-junctions, say): unknown.
+bool locally_convex(const Components& c, const std::vector<int>& faces, double tolerance) {
+  struct Directed {
+    int a, b, triangle, third;
+    bool operator<(const Directed& o) const { return a != o.a ? a < o.a : b < o.b; }
+  };
+  std::vector<Directed> edges;
+  edges.reserve(3 * faces.size());
+  std::vector<std::pair<int, double>> angles;  // (corner, angle there)
+  angles.reserve(3 * faces.size());
+  for (int t : faces) {
+    const Triangle& f = c.triangles[t];
+    for (int k = 0; k < 3; ++k) {
+      edges.push_back({c.corner[3 * t + k], c.corner[3 * t + (k + 1) % 3], t, c.corner[3 * t + (k + 2) % 3]});
+      const Vector3 u = f.v[(k + 1) % 3] - f.v[k], w = f.v[(k + 2) % 3] - f.v[k];
+      const double lu = length(u), lw = length(w);
+      if (!(lu > 0 && lw > 0)) return false;
+      angles.emplace_back(c.corner[3 * t + k], std::acos(std::clamp(dot(u, w) / (lu * lw), -1.0, 1.0)));
+    }
+  }
+  std::sort(edges.begin(), edges.end());
+  for (std::size_t i = 0; i < edges.size(); ++i) {
+    const Directed& e = edges[i];
+    if (i + 1 < edges.size() && !(e < edges[i + 1])) return false;  // the same directed edge twice
+    const auto back = std::lower_bound(edges.begin(), edges.end(), Directed{e.b, e.a, 0, 0});
+    if (back == edges.end() || back->a != e.b || back->b != e.a) return false;
+    if (back + 1 != edges.end() && !(*back < *(back + 1))) return false;
+    const Triangle& f = c.triangles[e.triangle];
+    int k = 0;  // the corner of the triangle across the edge that is not on it
+    while (k < 2 && c.corner[3 * back->triangle + k] != back->third) ++k;
+    if (dot(normalize(f.area_vector()), c.triangles[back->triangle].v[k] - f.v[0]) > tolerance) return false;
+  }
+  std::sort(angles.begin(), angles.end());
+  std::size_t vertices = 0;
+  for (std::size_t i = 0, j; i < angles.size(); i = j) {
+    double sum = 0;
+    for (j = i; j < angles.size() && angles[j].first == angles[i].first; ++j) sum += angles[j].second;
+    if (sum > 2 * std::numbers::pi + 1e-9) return false;
+    ++vertices;
+  }
+  const std::ptrdiff_t euler = static_cast<std::ptrdiff_t>(vertices) - static_cast<std::ptrdiff_t>(edges.size() / 2) +
+                               static_cast<std::ptrdiff_t>(faces.size());
+  return euler == 2;
+}
+
 }  // namespace
 
 std::vector<char> surfaces_bounding_solids(const std::vector<Surface>& surfaces) {
@@ -218,14 +269,17 @@ OutwardSolids outward_solids(const std::vector<Surface>& surfaces) {
       for (int k = 0; k < 3; ++k) corners.push_back(c.corner[3 * t + k]);
     std::sort(corners.begin(), corners.end());
     corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
-    const double checks = static_cast<double>(corners.size()) * static_cast<double>(faces[s].size() + 1);
-    if (checks > budget) continue;
-    budget -= checks;
     std::vector<Point3> points;  // one per welded position (corner 3 t + k has position 3 t + k too)
     Bounds3 box;
     for (int v : corners)
       if (v >= 0) box.add(points.emplace_back(position(v)));
     const double tolerance = 1e-9 * length(box.diagonal());
+    const double checks = static_cast<double>(corners.size()) * static_cast<double>(faces[s].size() + 1);
+    if (checks > budget) {
+      out.convex[s] = !out.cap[s].open && locally_convex(c, faces[s], tolerance);
+      continue;
+    }
+    budget -= checks;
     const auto behind = [&](const Vector3& normal, const Point3& on) {
       return std::all_of(points.begin(), points.end(), [&](const Point3& q) { return dot(normal, q - on) <= tolerance; });
     };

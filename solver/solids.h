@@ -30,7 +30,8 @@ struct OutwardSolids {
   std::vector<int> solid;
   // Per solid: whether it is convex (every corner on or behind every face's plane, to 1e-9 of the
   // solid's size). At most kMaxConvexityChecks corner–face pairs are checked over all solids (about
-  // 0.1 s); a solid beyond that budget is not checked (false).
+  // 0.1 s); a closed solid beyond that budget is checked locally (every edge convex, no corner's
+  // angles above 2π, the topology of a sphere), and an open one beyond it is not (false).
   std::vector<char> convex;
   static constexpr double kMaxConvexityChecks = 5e7;
   // Per solid: where it is open, the plane that closes it. A connected, consistently oriented surface

@@ -534,6 +534,29 @@ TEST(Solids, OnlyTheFacesOfClosedOutwardSolidsAreFlagged) {
   EXPECT_TRUE(all_of(std::vector<char>(mixed.begin() + 24, mixed.end()), 0));
 }
 
+TEST(Solids, ConvexityPastTheBudgetIsCheckedEdgeByEdge) {
+  // A sphere of 20 480 facets and 10 242 corners needs 2.1e8 corner–face checks, over the budget of
+  // 5e7, so its convexity is checked at its edges (solids.h). By construction it is convex; with one
+  // corner pushed to 0.9 of the radius its edges there fold inward, and it is not. A sphere of 320
+  // facets, within the budget, gives the same two answers the global way.
+  for (const int level : {2, 5}) {
+    const std::vector<Triangle> sphere = test::icosphere({0, 0, 0}, 1, level);
+    const double checks = level == 2 ? 162.0 * 321 : 10242.0 * 20481;  // corners × (faces + 1)
+    ASSERT_EQ(checks > OutwardSolids::kMaxConvexityChecks, level == 5);
+    const OutwardSolids round = solids_of({sphere});
+    ASSERT_EQ(round.convex.size(), 1u);
+    EXPECT_TRUE(round.convex[0]) << "level " << level;
+    std::vector<Triangle> dented = sphere;
+    const Point3 corner = sphere[0].v[0];
+    for (Triangle& t : dented)
+      for (Point3& p : t.v)
+        if (p == corner) p = to_point(to_vector(corner) * 0.9);
+    const OutwardSolids dent = solids_of({dented});
+    ASSERT_EQ(dent.convex.size(), 1u);
+    EXPECT_FALSE(dent.convex[0]) << "level " << level;
+  }
+}
+
 TEST(Solids, AConvexSurfaceThatOnePlaneClosesIsAnOpenSolid) {
   // A box with no floor (a building on the ground): its walls and roof are one convex solid, open,
   // whose cap is the floor's plane facing down; with one triangle missing too (the floor's plane
