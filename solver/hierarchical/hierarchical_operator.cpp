@@ -10,7 +10,6 @@
 #include "solver/form_factor.h"
 #include "solver/hierarchical/point_gather.h"
 #include "solver/pipeline/hemisphere.h"
-#include "solver/solids.h"
 
 namespace lambert::hierarchical {
 namespace {
@@ -30,8 +29,8 @@ HierarchicalOperator::HierarchicalOperator(const Scene& scene, ElementForest for
   // Shafts and exact visible parts on the input triangles: fewer and larger occluders than the roots
   // (the cube room's 24 against its 1 000 roots), so each query visits fewer of them.
   inputs_ = input_triangles(scene);
-  const OutwardSolids solids = outward_solids(scene.surfaces);
-  shafts_ = std::make_unique<ExactVisibility>(inputs_, solids.solid, solids.convex, solids.cap);
+  solids_ = outward_solids(scene.surfaces);
+  shafts_ = std::make_unique<ExactVisibility>(inputs_, solids_.solid, solids_.convex, solids_.cap);
   occluder_planes_ = std::make_unique<OccluderPlanes>(h_.root_triangles());
   hemisphere_.assign(patches_.size(), Hemisphere::Open);
   h_.leaf_scale.assign(patches_.size(), 1.0);
@@ -91,6 +90,7 @@ void HierarchicalOperator::classify_hemispheres(const SolveControl& control) {
   }
   static_cast<ClusterTree&>(h_) = build_cluster_tree(h_);
   planes_ = std::make_unique<PlaneVerdicts>(h_, h_, *occluder_planes_);
+  solid_shafts_ = std::make_unique<SolidShafts>(h_, h_, inputs_, solids_.solid, solids_.convex);
 }
 
 void HierarchicalOperator::apply(const std::vector<const double*>& V, const std::vector<double*>& FV) const {

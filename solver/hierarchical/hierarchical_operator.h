@@ -4,7 +4,8 @@
 // ever formed. The rooms of solver/hierarchical/, in the order a solve meets them:
 //
 //   discretise.h      the element forest (elements.h) at the patch size, the visibility scene
-//   hierarchical_operator.cpp  hemispheres per leaf, then the clusters over the roots (clusters.h)
+//   hierarchical_operator.cpp  hemispheres per leaf, then the clusters over the roots (clusters.h),
+//                     and which pairs need no rays (plane_verdicts.h, solid_shafts.h)
 //   rounds.cpp        the refine–solve rounds: the oracle's radiosity (oracle.h), the refinement
 //                     (refiner.h: links, links.h), the final gather at the leaves (final_gather.h),
 //                     the closure balance (closure.h)
@@ -23,8 +24,10 @@
 #include "solver/hierarchical/hierarchy.h"
 #include "solver/hierarchical/plane_verdicts.h"
 #include "solver/hierarchical/refiner.h"
+#include "solver/hierarchical/solid_shafts.h"
 #include "solver/occluder_planes.h"
 #include "solver/pipeline/transport_operator.h"
+#include "solver/solids.h"
 
 namespace lambert::hierarchical {
 
@@ -75,6 +78,8 @@ class HierarchicalOperator final : public TransportOperator {
   std::unique_ptr<ExactVisibility> shafts_;
   std::unique_ptr<OccluderPlanes> occluder_planes_;
   std::unique_ptr<PlaneVerdicts> planes_;  // once the clusters are built
+  OutwardSolids solids_;                   // of the input triangles (solids.h)
+  std::unique_ptr<SolidShafts> solid_shafts_;  // once the clusters are built
   std::vector<Hemisphere> hemisphere_;
 
   // The refine–solve loop's state (rounds.cpp).

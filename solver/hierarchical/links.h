@@ -31,7 +31,11 @@ inline constexpr unsigned char kCentroid = 85;  // 1/3
 enum class LinkVisibility : unsigned char {
   Unknown,        // partly hidden by its rays (or not yet traced)
   ShaftClear,     // no occluder in the pair's hull: wholly visible
-  RaysUnanimous,  // every ray of it was unobstructed
+  // Every ray of it was unobstructed, or would be: the solids' shafts (solid_shafts.h) proved it before
+  // any was traced. Not ShaftClear, so that with solver.exact_visibility the final gather evaluates
+  // the leaves' own visibility as it does for any link its rays found visible (docs/BENCHMARKS.md:
+  // as ShaftClear, a furnace room's rows closed to 3.4e-5 instead of 7.8e-7).
+  RaysUnanimous,
   // What a leaf of the final gather takes from a link whose rays were unanimous and whose shaft holds
   // too many occluders for exact visibility (LeafGather::mark_crowded_links): wholly visible, as by
   // default.

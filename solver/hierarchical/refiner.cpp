@@ -48,9 +48,9 @@ std::array<double, 3> linear_fit(const std::array<std::array<double, 3>, P>& bet
 }  // namespace
 
 Refiner::Refiner(const Hierarchy& h, const Visibility& vis, const ExactVisibility& shafts, const PlaneVerdicts& planes,
-                 const OracleValues& oracle, double epsilon, double unit_area, double accuracy, ExchangeCache& exchange,
+                 const SolidShafts& solids, const OracleValues& oracle, double epsilon, double unit_area, double accuracy, ExchangeCache& exchange,
                  HiddenRoom& hidden_room)
-    : h_(h), vis_(vis), shafts_(shafts), planes_(planes), element_B_(oracle.element_B), cluster_B_(oracle.cluster_B),
+    : h_(h), vis_(vis), shafts_(shafts), planes_(planes), solids_(solids), element_B_(oracle.element_B), cluster_B_(oracle.cluster_B),
       departure_(oracle.element_departure),
       epsilon_(epsilon), unit_area_(unit_area), exchange_(exchange), hidden_room_(hidden_room) {
   // The cubature of near pairs may err by a tenth of what the oracle allows a link (relative), not
@@ -125,11 +125,12 @@ void Refiner::refine_to_element(int r, int s, LinkBatch& out) const {
   // occluder planes, a few word operations: a pair they clear is wholly visible.
   const double uncertain = kUnprovenVisibility * F;
   bool clear = planes_.clear(r, s);
-  if (!clear && B * uncertain * weight > epsilon_) {
+  const bool unblocked = !clear && solids_.clear(r, s);
+  if (!clear && !unblocked && B * uncertain * weight > epsilon_) {
     const std::array<Point3, 6> hull = {R.tri.v[0], R.tri.v[1], R.tri.v[2], S.tri.v[0], S.tri.v[1], S.tri.v[2]};
     clear = shafts_.shaft_is_clear(hull);
   }
-  const double partial = clear ? 0 : uncertain;
+  const double partial = clear || unblocked ? 0 : uncertain;
   if (B * partial * weight > epsilon_) return split(r, s, out);
   Link link;
   link.receiver = r;
@@ -137,8 +138,10 @@ void Refiner::refine_to_element(int r, int s, LinkBatch& out) const {
   for (int k = 0; k < 3; ++k) link.coeff[k] = static_cast<float>(a[k]);
   link.error_per_B = static_cast<float>((residual + partial) * weight);
   if (h_.has_children(s)) link.bin = source_point_of(S, R);
-  link.set_visibility(clear ? LinkVisibility::ShaftClear : LinkVisibility::Unknown);
-  if (clear) out.links.push_back(link);
+  link.set_visibility(clear       ? LinkVisibility::ShaftClear
+                      : unblocked ? LinkVisibility::RaysUnanimous
+                                  : LinkVisibility::Unknown);
+  if (clear || unblocked) out.links.push_back(link);
   else out.pending.push_back(link);
 }
 
@@ -175,7 +178,8 @@ void Refiner::refine_to_cluster(int r, int c, LinkBatch& out) const {
       link.bin = view.bin;
       for (int a = 0; a < 3; ++a) link.coeff[a] = static_cast<float>(view.weight[a] * cos_r / (kPi * d * d));
       link.error_per_B = static_cast<float>(error_per_B);
-      if (planes_.clear_cluster(c, r, false)) out.links.push_back(link);  // wholly visible, no rays
+      if (planes_.clear_cluster(c, r, false) || solids_.clear_cluster(c, r, false))
+        out.links.push_back(link);  // wholly visible, no rays
       else out.pending.push_back(link);
       return;
     }
@@ -273,7 +277,8 @@ void Refiner::refine_pair(int rc, int s, bool from_cluster, LinkBatch& out) cons
   }
   link.toward = {static_cast<float>(-w.x), static_cast<float>(-w.y), static_cast<float>(-w.z)};
   link.error_per_B = static_cast<float>(error_per_B);
-  if (planes_.clear_cluster(rc, s, from_cluster)) out.cluster_links.push_back(link);  // wholly visible, no rays
+  if (planes_.clear_cluster(rc, s, from_cluster) || solids_.clear_cluster(rc, s, from_cluster))
+    out.cluster_links.push_back(link);  // wholly visible, no rays
   else out.cluster_pending.push_back(link);
 }
 
@@ -287,7 +292,8 @@ void Refiner::link_vector_estimate(int rc, int s, double error_per_B, LinkBatch&
   link.coeff[0] = static_cast<float>(F);
   link.toward = {static_cast<float>(V.x / F), static_cast<float>(V.y / F), static_cast<float>(V.z / F)};
   link.error_per_B = static_cast<float>(error_per_B);
-  if (planes_.clear_cluster(rc, s, false)) out.cluster_links.push_back(link);  // wholly visible, no rays
+  if (planes_.clear_cluster(rc, s, false) || solids_.clear_cluster(rc, s, false))
+    out.cluster_links.push_back(link);  // wholly visible, no rays
   else out.cluster_pending.push_back(link);
 }
 
@@ -451,11 +457,12 @@ void Refiner::link_leaves(int r, int s, LinkBatch& out) const {
   Link link;
   link.receiver = r;
   link.source = s;
-  if (planes_.clear(r, s)) {
+  const bool clear = planes_.clear(r, s);
+  if (clear || solids_.clear(r, s)) {
     const double F = leaf_exchange(r, s) / h_.elements[r].area;
     if (!(F > 0)) return;
     link.coeff.fill(static_cast<float>(F));
-    link.set_visibility(LinkVisibility::ShaftClear);
+    link.set_visibility(clear ? LinkVisibility::ShaftClear : LinkVisibility::RaysUnanimous);
     out.links.push_back(link);
     return;
   }

@@ -26,6 +26,7 @@
 #include "solver/hierarchical/hierarchy.h"
 #include "solver/hierarchical/oracle.h"
 #include "solver/hierarchical/plane_verdicts.h"
+#include "solver/hierarchical/solid_shafts.h"
 #include "solver/visibility.h"
 
 namespace lambert::hierarchical {
@@ -51,7 +52,7 @@ struct HiddenRoom {
 class Refiner {
  public:
   Refiner(const Hierarchy& h, const Visibility& vis, const ExactVisibility& shafts, const PlaneVerdicts& planes,
-          const OracleValues& oracle, double epsilon, double unit_area, double accuracy, ExchangeCache& exchange,
+          const SolidShafts& solids, const OracleValues& oracle, double epsilon, double unit_area, double accuracy, ExchangeCache& exchange,
           HiddenRoom& hidden_room);
 
   // The oracle bounds irradiance errors at the patch scale and power errors above it: an error of
@@ -138,6 +139,7 @@ class Refiner {
   const Visibility& vis_;
   const ExactVisibility& shafts_;
   const PlaneVerdicts& planes_;
+  const SolidShafts& solids_;
   const std::vector<double>& element_B_;
   const std::vector<double>& cluster_B_;
   const std::vector<double>& departure_;  // OracleValues::element_departure

@@ -1,0 +1,136 @@
+// Which pairs the solids' shafts clear without rays (solver/hierarchical/solid_shafts.h), checked
+// against segments traced by hand: a cleared pair must have no segment between its elements (each
+// end in front of the other's plane) that passes through another solid, and a pair that the bounding
+// spheres' hull keeps apart from every other solid must be cleared.
+#include "solver/hierarchical/solid_shafts.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <vector>
+
+#include "solver/hierarchical/clusters.h"
+#include "solver/hierarchical/elements.h"
+#include "solver/radiosity.h"
+#include "solver/solids.h"
+#include "tests/scene_builder.h"
+
+namespace lambert::hierarchical {
+namespace {
+
+// Whether the open segment from p to q passes through the open box (slab test).
+bool segment_enters_box(const Point3& p, const Point3& q, const Point3& lo, const Point3& hi) {
+  double t0 = 0, t1 = 1;
+  for (int a = 0; a < 3; ++a) {
+    const double d = q[a] - p[a];
+    if (d == 0) {
+      if (p[a] <= lo[a] || p[a] >= hi[a]) return false;
+      continue;
+    }
+    double enter = (lo[a] - p[a]) / d, leave = (hi[a] - p[a]) / d;
+    if (enter > leave) std::swap(enter, leave);
+    t0 = std::max(t0, enter);
+    t1 = std::min(t1, leave);
+  }
+  return t0 < t1;
+}
+
+// A room (inward faces: loose triangles, not a solid; or none) with cubes A and B facing each other
+// across x ∈ [2, 4] and a small cube C between them, level with their upper parts.
+struct Scene3 {
+  static constexpr Point3 kBlockerLo{2.9, 1.4, 1.75}, kBlockerHi{3.1, 1.6, 1.95};
+  test::SceneBuilder b;
+  ElementForest forest;
+  ClusterTree tree;
+  std::vector<Triangle> inputs;
+  OutwardSolids solids;
+  Scene3(bool blocker, bool room) {
+    const int grey = b.material("grey", 0.5);
+    if (room) b.surface("room", grey, test::box({0, 0, 0}, {6, 3, 3}, true));
+    b.surface("A", grey, test::box({1, 1, 1}, {2, 2, 2}, false));
+    b.surface("B", grey, test::box({4, 1, 1}, {5, 2, 2}, false));
+    if (blocker) b.surface("C", grey, test::box(kBlockerLo, kBlockerHi, false));
+    b.max_patch_area(1.0 / 32);
+    forest = build_forest(b.scene(), 1.0 / 32, {});
+    tree = build_cluster_tree(forest);
+    inputs = input_triangles(b.scene());
+    solids = outward_solids(b.scene().surfaces);
+  }
+};
+
+TEST(SolidShafts, ClearsOnlyPairsThatNoOtherSolidCanHide) {
+  const Scene3 s(true, true);
+  ASSERT_EQ(std::count(s.solids.convex.begin(), s.solids.convex.end(), 1), 3);  // A, B and C; the room is not one
+  const SolidShafts shafts(s.forest, s.tree, s.inputs, s.solids.solid, s.solids.convex);
+  // The elements of A's face x = 2 and of B's face x = 4, at every level: every segment between them
+  // has both ends in front of both planes.
+  std::vector<int> on_a, on_b;
+  for (int e = 0; e < static_cast<int>(s.forest.elements.size()); ++e) {
+    const Element& E = s.forest.elements[e];
+    if (std::abs(E.centre.x - 2) < 1e-12 && E.normal.x > 0.5) on_a.push_back(e);
+    if (std::abs(E.centre.x - 4) < 1e-12 && E.normal.x < -0.5) on_b.push_back(e);
+  }
+  ASSERT_FALSE(on_a.empty());
+  ASSERT_FALSE(on_b.empty());
+  // C's bounding sphere, the blocker the hull of the pair's spheres is tested against.
+  const Point3 c_centre{3.0, 1.5, 1.85};
+  const double c_radius = 0.5 * length(Scene3::kBlockerHi - Scene3::kBlockerLo);
+  int cleared = 0, must = 0, hidden_somewhere = 0;
+  for (int a : on_a)
+    for (int b : on_b) {
+      const Element& A = s.forest.elements[a];
+      const Element& B = s.forest.elements[b];
+      // Segments between 6 × 6 points of each (barycentric grid, corners included).
+      bool blocked = false;
+      for (int i = 0; i <= 5 && !blocked; ++i)
+        for (int j = 0; i + j <= 5 && !blocked; ++j)
+          for (int k = 0; k <= 5 && !blocked; ++k)
+            for (int l = 0; k + l <= 5 && !blocked; ++l) {
+              const Point3 p = barycentric(A.tri.v[0], A.tri.v[1], A.tri.v[2], 0, i / 5.0, j / 5.0);
+              const Point3 q = barycentric(B.tri.v[0], B.tri.v[1], B.tri.v[2], 0, k / 5.0, l / 5.0);
+              blocked = segment_enters_box(p, q, Scene3::kBlockerLo, Scene3::kBlockerHi);
+            }
+      const bool clear = shafts.clear(a, b);
+      hidden_somewhere += blocked;
+      EXPECT_FALSE(clear && blocked) << "elements " << a << ", " << b << ": a segment between them meets C";
+      cleared += clear;
+      // The hull of the two spheres misses C's sphere by the distance from C's centre to the segment
+      // between the pair's centres, less the larger radius (the hull lies in that capsule): cleared.
+      const Vector3 axis = B.centre - A.centre;
+      const double t = std::clamp(dot(c_centre - A.centre, axis) / length_squared(axis), 0.0, 1.0);
+      if (distance(c_centre, A.centre + axis * t) > c_radius + std::max(A.radius, B.radius)) {
+        ++must;
+        EXPECT_TRUE(clear) << "elements " << a << ", " << b;
+      }
+    }
+  EXPECT_GT(hidden_somewhere, 0);  // C does stand between some pairs
+  EXPECT_GT(must, 0);
+  EXPECT_GE(cleared, must);
+}
+
+TEST(SolidShafts, ACubesClusterSeesAnotherWhollyUnlessASolidStandsBetween) {
+  // The clusters that are A and B (their twelve roots each, all on one convex solid): their own faces
+  // cannot hide each other, so with nothing between them they are clear; with C between, not. (No
+  // room: its walls' roots would share clusters with the cubes'.)
+  for (const bool blocker : {false, true}) {
+    const Scene3 s(blocker, false);
+    const SolidShafts shafts(s.forest, s.tree, s.inputs, s.solids.solid, s.solids.convex);
+    auto cube = [&](double x0) {
+      for (int c = 0; c < static_cast<int>(s.tree.clusters.size()); ++c) {
+        const Cluster& C = s.tree.clusters[c];
+        if (std::abs(C.box.lo.x - x0) < 1e-12 && std::abs(C.box.hi.x - (x0 + 1)) < 1e-12 &&
+            std::abs(C.box.lo.z - 1) < 1e-12 && std::abs(C.box.hi.z - 2) < 1e-12 && C.root_count >= 12)
+          return c;
+      }
+      return -1;
+    };
+    const int a = cube(1), b = cube(4);
+    ASSERT_GE(a, 0);
+    ASSERT_GE(b, 0);
+    EXPECT_EQ(shafts.clear_cluster(a, b, true), !blocker) << (blocker ? "with C" : "without C");
+  }
+}
+
+}  // namespace
+}  // namespace lambert::hierarchical
