@@ -48,10 +48,10 @@ std::array<double, 3> linear_fit(const std::array<std::array<double, 3>, P>& bet
 }  // namespace
 
 Refiner::Refiner(const Hierarchy& h, const Visibility& vis, const ExactVisibility& shafts, const PlaneVerdicts& planes,
-                 const SolidShafts& solids, const OracleValues& oracle, double epsilon, double unit_area, double accuracy, ExchangeCache& exchange,
-                 HiddenRoom& hidden_room)
-    : h_(h), vis_(vis), shafts_(shafts), planes_(planes), solids_(solids), element_B_(oracle.element_B), cluster_B_(oracle.cluster_B),
-      departure_(oracle.element_departure),
+                 const SolidShafts& solids, const OracleValues& oracle, double epsilon, double unit_area, double accuracy,
+                 ExchangeCache& exchange, HiddenRoom& hidden_room)
+    : h_(h), vis_(vis), shafts_(shafts), planes_(planes), solids_(solids), element_B_(oracle.element_B),
+      cluster_B_(oracle.cluster_B), departure_(oracle.element_departure),
       epsilon_(epsilon), unit_area_(unit_area), exchange_(exchange), hidden_room_(hidden_room) {
   // The cubature of near pairs may err by a tenth of what the oracle allows a link (relative), not
   // the dense solver's 1e-5: the city block of the benchmarks solved 1.3× faster, its radiosity
@@ -122,7 +122,8 @@ void Refiner::refine_to_element(int r, int s, LinkBatch& out) const {
   // within the budget, the link takes rays (16 before the first vote) without the shaft test: in
   // the lit sphere rooms 95 % of the tested pairs were of this kind and 0.7 % of them clear, so the
   // test (9 % of the solve's time, about 40 rays' worth) mostly bought nothing. Before either, the
-  // occluder planes, a few word operations: a pair they clear is wholly visible.
+  // occluder planes, a few word operations: a pair they clear is wholly visible; then the solids'
+  // shafts (solid_shafts.h), where no occluder but the pair's own convex solids comes near it.
   const double uncertain = kUnprovenVisibility * F;
   bool clear = planes_.clear(r, s);
   const bool unblocked = !clear && solids_.clear(r, s);

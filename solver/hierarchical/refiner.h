@@ -52,8 +52,8 @@ struct HiddenRoom {
 class Refiner {
  public:
   Refiner(const Hierarchy& h, const Visibility& vis, const ExactVisibility& shafts, const PlaneVerdicts& planes,
-          const SolidShafts& solids, const OracleValues& oracle, double epsilon, double unit_area, double accuracy, ExchangeCache& exchange,
-          HiddenRoom& hidden_room);
+          const SolidShafts& solids, const OracleValues& oracle, double epsilon, double unit_area, double accuracy,
+          ExchangeCache& exchange, HiddenRoom& hidden_room);
 
   // The oracle bounds irradiance errors at the patch scale and power errors above it: an error of
   // δE over a receiver of area A counts δE × max(1, A / unit_area). Coarse receivers (many patches)
@@ -116,7 +116,8 @@ class Refiner {
   // block cleared 6 % of its shafts at 3.8 µs each, the price of 40 rays).
   // Its factor waits for the rays (resolve()): most leaf pairs in a cluttered scene turn out wholly
   // hidden, and the factor of a near pair (adaptive cubature) cost more than their rays.
-  // A pair that the occluder planes clear needs no rays: its factor now, and wholly visible.
+  // A pair that the occluder planes or the solids' shafts clear needs no rays: its factor now, and
+  // wholly visible.
   void link_leaves(int r, int s, LinkBatch& out) const;
 
   // A_r F_rs = A_s F_sr of two leaves (exchange_area: the same whichever asks). Near pairs (adaptive

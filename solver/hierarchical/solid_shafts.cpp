@@ -130,6 +130,8 @@ SolidShafts::SolidShafts(const ElementForest& forest, const ClusterTree& tree, s
     if (of_solid[s] < 0) of_solid[s] = groups++;
     group[k] = of_solid[s];
   }
+  const auto loose = static_cast<std::size_t>(std::count(group.begin(), group.end(), -1));
+  if (static_cast<std::size_t>(groups) > kMaxBlockers || loose > kMaxLooseTriangles) return;
   groups = join_coplanar(inputs, tolerance_, group, groups);
 
   // Each group's sphere (about its box's centre) and planes.

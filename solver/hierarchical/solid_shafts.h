@@ -82,6 +82,9 @@ class SolidShafts {
   // city block's 2 209 buildings every pair's hull meets several of them, the test cleared 7 % of the
   // link rays and doubled the solve's time (docs/BENCHMARKS.md).
   static constexpr std::size_t kMaxBlockers = 256;
+  // Nor past this many triangles of no solid (a CAD export of 10⁶ loose triangles): joining them
+  // into planes is a map over their edges, O(n log n), which the scenes it serves do not need.
+  static constexpr std::size_t kMaxLooseTriangles = 65'536;
   // Whether every corner of both ends lies on one side of the plane (in front of it if `front_only`).
   bool one_side(const Plane& plane, const End& a, const End& b, bool front_only) const;
   // Whether a blocker whose sphere meets the pair's hull, not the pair's own, may hide part of one end
