@@ -186,7 +186,13 @@ struct Bounds3 {
     lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
     hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
   }
+  // The union with another box (nothing where that one is empty).
+  void add(const Bounds3& b) {
+    if (!b.empty()) add(b.lo), add(b.hi);
+  }
   bool empty() const { return lo.x > hi.x; }
+  // Corner k of 8: bit 0 picks hi.x over lo.x, bit 1 hi.y, bit 2 hi.z.
+  Point3 corner(int k) const { return {k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z}; }
   Vector3 diagonal() const { return empty() ? Vector3{} : hi - lo; }
   Point3 center() const { return barycentric(lo, hi, hi, 0.5, 0.5, 0.0); }
 };

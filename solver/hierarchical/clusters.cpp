@@ -35,9 +35,6 @@ int area_split(ClusterTree& h, const ElementForest& f, int first, int count, con
     Bounds3 box;
     int roots = 0;
   };
-  auto merge = [](Bounds3& into, const Bounds3& b) {
-    if (!b.empty()) into.add(b.lo), into.add(b.hi);
-  };
   auto half_area = [](const Bounds3& b) {
     const Vector3 d = b.diagonal();
     return d.x * d.y + d.y * d.z + d.z * d.x;
@@ -57,20 +54,20 @@ int area_split(ClusterTree& h, const ElementForest& f, int first, int count, con
       const int e = h.root_order[k];
       Bin& b = bins[bin_of(e, axis)];
       ++b.roots;
-      merge(b.box, bounds(f.elements[e].tri));
+      b.box.add(bounds(f.elements[e].tri));
     }
     std::array<double, kSplitBins> right_cost{};  // of bins [b, end)
     Bounds3 box;
     int roots = 0;
     for (int b = kSplitBins - 1; b > 0; --b) {
-      merge(box, bins[b].box);
+      box.add(bins[b].box);
       roots += bins[b].roots;
       right_cost[b] = half_area(box) * roots;
     }
     box = Bounds3{};
     roots = 0;
     for (int b = 0; b + 1 < kSplitBins; ++b) {
-      merge(box, bins[b].box);
+      box.add(bins[b].box);
       roots += bins[b].roots;
       if (roots == 0 || roots == count) continue;
       const double cost = half_area(box) * roots + right_cost[b + 1];
@@ -221,8 +218,7 @@ double unseen_transfer(const Cluster& C, const ClusterView& view, bool receiver_
 
 bool box_in_front(const Bounds3& box, const Point3& o, const Vector3& n, double tol) {
   for (int c = 0; c < 8; ++c) {
-    const Point3 p{c & 1 ? box.hi.x : box.lo.x, c & 2 ? box.hi.y : box.lo.y, c & 4 ? box.hi.z : box.lo.z};
-    if (dot(p - o, n) > tol) return true;
+    if (dot(box.corner(c) - o, n) > tol) return true;
   }
   return false;
 }

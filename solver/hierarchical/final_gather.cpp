@@ -154,7 +154,7 @@ LinkVisibility LeafGather::verdict_of(const Link& l, std::size_t index) const {
 
 bool LeafGather::crowded(const Bounds3& receiver, const Bounds3& source) const {
   Bounds3 box = receiver;
-  box.add(source.lo), box.add(source.hi);
+  box.add(source);
   return exact_.occluders_near_box(box) > kExactOccluders;
 }
 

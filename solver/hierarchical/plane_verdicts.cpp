@@ -21,7 +21,7 @@ PlaneVerdicts::PlaneVerdicts(const ElementForest& forest, const ClusterTree& tre
     for (std::size_t c = range.begin(); c != range.end(); ++c) {
       const Bounds3& b = tree.clusters[c].box;
       std::array<Point3, 8> corners;
-      for (int k = 0; k < 8; ++k) corners[k] = {k & 1 ? b.hi.x : b.lo.x, k & 2 ? b.hi.y : b.lo.y, k & 4 ? b.hi.z : b.lo.z};
+      for (int k = 0; k < 8; ++k) corners[k] = b.corner(k);
       cluster_sides_[c] = planes_.sides(corners);
     }
   });

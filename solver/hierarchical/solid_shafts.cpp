@@ -235,8 +235,7 @@ SolidShafts::End SolidShafts::cluster_end(int c) const {
   end.centre = C.centre;
   end.radius = C.radius;
   end.solid = cluster_solid_[c];
-  const Bounds3& b = C.box;
-  for (int k = 0; k < 8; ++k) end.corners[k] = {k & 1 ? b.hi.x : b.lo.x, k & 2 ? b.hi.y : b.lo.y, k & 4 ? b.hi.z : b.lo.z};
+  for (int k = 0; k < 8; ++k) end.corners[k] = C.box.corner(k);
   end.count = 8;
   return end;
 }

@@ -160,10 +160,7 @@ template <class Visit>
 void SkyDome::visit_box(const Point3& p, const Vector3& n, const ExactVisibility& exact, Visit&& visit) const {
   double reach = 0;
   if (!scene_.empty())
-    for (int k = 0; k < 8; ++k) {
-      const Point3 c{k & 1 ? scene_.hi.x : scene_.lo.x, k & 2 ? scene_.hi.y : scene_.lo.y, k & 4 ? scene_.hi.z : scene_.lo.z};
-      reach = std::max(reach, distance(c, p));
-    }
+    for (int k = 0; k < 8; ++k) reach = std::max(reach, distance(scene_.corner(k), p));
   // Every occluder lies within `reach` of p, so inside the box; beyond it by half as much again.
   const double R = 1.5 * std::max(reach, 1e-3 * (1 + length(to_vector(p))));
   const std::array<Triangle, kBoxTriangles> box = box_about(p, sky_.up(), R);
