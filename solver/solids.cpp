@@ -164,7 +164,9 @@ bool locally_convex(const Components& c, const std::vector<int>& faces, double t
   angles.reserve(3 * faces.size());
   for (int t : faces) {
     const Triangle& f = c.triangles[t];
+    if (!(length(f.area_vector()) > 0)) return false;  // no plane to be behind
     for (int k = 0; k < 3; ++k) {
+      if (c.corner[3 * t + k] < 0) return false;  // not finite (weld_identical_positions)
       edges.push_back({c.corner[3 * t + k], c.corner[3 * t + (k + 1) % 3], t, c.corner[3 * t + (k + 2) % 3]});
       const Vector3 u = f.v[(k + 1) % 3] - f.v[k], w = f.v[(k + 2) % 3] - f.v[k];
       const double lu = length(u), lw = length(w);

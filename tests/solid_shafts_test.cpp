@@ -36,8 +36,16 @@ bool segment_enters_box(const Point3& p, const Point3& q, const Point3& lo, cons
   return t0 < t1;
 }
 
+// Whether the segment from p to q crosses the plane x = x0 inside the open rectangle (y, z) ∈ (lo, hi).
+bool segment_crosses_square(const Point3& p, const Point3& q, double x0, const Point3& lo, const Point3& hi) {
+  if ((p.x - x0) * (q.x - x0) >= 0) return false;
+  const Point3 m = p + (q - p) * ((x0 - p.x) / (q.x - p.x));
+  return m.y > lo.y && m.y < hi.y && m.z > lo.z && m.z < hi.z;
+}
+
 // A room (inward faces: loose triangles, not a solid; or none) with cubes A and B facing each other
-// across x ∈ [2, 4] and a small cube C between them, level with their upper parts.
+// across x ∈ [2, 4], and a third object (or none): the small cube C between them, level with their
+// upper parts, by default.
 struct Scene3 {
   static constexpr Point3 kBlockerLo{2.9, 1.4, 1.75}, kBlockerHi{3.1, 1.6, 1.95};
   test::SceneBuilder b;
@@ -45,12 +53,12 @@ struct Scene3 {
   ClusterTree tree;
   std::vector<Triangle> inputs;
   OutwardSolids solids;
-  Scene3(bool blocker, bool room) {
+  Scene3(bool blocker, bool room, const std::vector<Triangle>& third = test::box(kBlockerLo, kBlockerHi, false)) {
     const int grey = b.material("grey", 0.5);
     if (room) b.surface("room", grey, test::box({0, 0, 0}, {6, 3, 3}, true));
     b.surface("A", grey, test::box({1, 1, 1}, {2, 2, 2}, false));
     b.surface("B", grey, test::box({4, 1, 1}, {5, 2, 2}, false));
-    if (blocker) b.surface("C", grey, test::box(kBlockerLo, kBlockerHi, false));
+    if (blocker) b.surface("C", grey, third);
     b.max_patch_area(1.0 / 32);
     forest = build_forest(b.scene(), 1.0 / 32, {});
     tree = build_cluster_tree(forest);
@@ -59,20 +67,40 @@ struct Scene3 {
   }
 };
 
-TEST(SolidShafts, ClearsOnlyPairsThatNoOtherSolidCanHide) {
-  const Scene3 s(true, true);
-  ASSERT_EQ(std::count(s.solids.convex.begin(), s.solids.convex.end(), 1), 3);  // A, B and C; the room is not one
-  const SolidShafts shafts(s.forest, s.tree, s.inputs, s.solids.solid, s.solids.convex);
-  // The elements of A's face x = 2 and of B's face x = 4, at every level: every segment between them
-  // has both ends in front of both planes.
+// The elements of A's face x = 2 and of B's face x = 4, at every level: every segment between them
+// has both ends in front of both planes.
+std::pair<std::vector<int>, std::vector<int>> facing_elements(const Scene3& s) {
   std::vector<int> on_a, on_b;
   for (int e = 0; e < static_cast<int>(s.forest.elements.size()); ++e) {
     const Element& E = s.forest.elements[e];
     if (std::abs(E.centre.x - 2) < 1e-12 && E.normal.x > 0.5) on_a.push_back(e);
     if (std::abs(E.centre.x - 4) < 1e-12 && E.normal.x < -0.5) on_b.push_back(e);
   }
-  ASSERT_FALSE(on_a.empty());
-  ASSERT_FALSE(on_b.empty());
+  EXPECT_FALSE(on_a.empty());
+  EXPECT_FALSE(on_b.empty());
+  return {on_a, on_b};
+}
+
+// Segments between 6 × 6 points of each element (barycentric grid, corners included): whether one
+// of them meets `hit`.
+template <class Hit>
+bool any_segment(const Element& A, const Element& B, Hit&& hit) {
+  for (int i = 0; i <= 5; ++i)
+    for (int j = 0; i + j <= 5; ++j)
+      for (int k = 0; k <= 5; ++k)
+        for (int l = 0; k + l <= 5; ++l) {
+          const Point3 p = barycentric(A.tri.v[0], A.tri.v[1], A.tri.v[2], 0, i / 5.0, j / 5.0);
+          const Point3 q = barycentric(B.tri.v[0], B.tri.v[1], B.tri.v[2], 0, k / 5.0, l / 5.0);
+          if (hit(p, q)) return true;
+        }
+  return false;
+}
+
+TEST(SolidShafts, ClearsOnlyPairsThatNoOtherSolidCanHide) {
+  const Scene3 s(true, true);
+  ASSERT_EQ(std::count(s.solids.convex.begin(), s.solids.convex.end(), 1), 3);  // A, B and C; the room is not one
+  const SolidShafts shafts(s.forest, s.tree, s.inputs, s.solids.solid, s.solids.convex);
+  const auto [on_a, on_b] = facing_elements(s);
   // C's bounding sphere, the blocker the hull of the pair's spheres is tested against.
   const Point3 c_centre{3.0, 1.5, 1.85};
   const double c_radius = 0.5 * length(Scene3::kBlockerHi - Scene3::kBlockerLo);
@@ -81,16 +109,9 @@ TEST(SolidShafts, ClearsOnlyPairsThatNoOtherSolidCanHide) {
     for (int b : on_b) {
       const Element& A = s.forest.elements[a];
       const Element& B = s.forest.elements[b];
-      // Segments between 6 × 6 points of each (barycentric grid, corners included).
-      bool blocked = false;
-      for (int i = 0; i <= 5 && !blocked; ++i)
-        for (int j = 0; i + j <= 5 && !blocked; ++j)
-          for (int k = 0; k <= 5 && !blocked; ++k)
-            for (int l = 0; k + l <= 5 && !blocked; ++l) {
-              const Point3 p = barycentric(A.tri.v[0], A.tri.v[1], A.tri.v[2], 0, i / 5.0, j / 5.0);
-              const Point3 q = barycentric(B.tri.v[0], B.tri.v[1], B.tri.v[2], 0, k / 5.0, l / 5.0);
-              blocked = segment_enters_box(p, q, Scene3::kBlockerLo, Scene3::kBlockerHi);
-            }
+      const bool blocked = any_segment(A, B, [](const Point3& p, const Point3& q) {
+        return segment_enters_box(p, q, Scene3::kBlockerLo, Scene3::kBlockerHi);
+      });
       const bool clear = shafts.clear(a, b);
       hidden_somewhere += blocked;
       EXPECT_FALSE(clear && blocked) << "elements " << a << ", " << b << ": a segment between them meets C";
@@ -130,6 +151,55 @@ TEST(SolidShafts, ACubesClusterSeesAnotherWhollyUnlessASolidStandsBetween) {
     ASSERT_GE(b, 0);
     EXPECT_EQ(shafts.clear_cluster(a, b, true), !blocker) << (blocker ? "with C" : "without C");
   }
+}
+
+TEST(SolidShafts, ALooseSquareBetweenHidesWhatCrossesIt) {
+  // C is a square sheet facing +x at x = 3 (two triangles of no solid): its plane has the pair on both
+  // sides, so a pair whose hull meets the sheet's sphere is not cleared; none cleared may have a
+  // segment through the square.
+  const Point3 lo{3, 1.4, 1.75}, hi{3, 1.6, 1.95};
+  const std::vector<Triangle> sheet = {Triangle{{lo, Point3{3, hi.y, lo.z}, hi}}, Triangle{{lo, hi, Point3{3, lo.y, hi.z}}}};
+  const Scene3 s(true, true, sheet);
+  const SolidShafts shafts(s.forest, s.tree, s.inputs, s.solids.solid, s.solids.convex);
+  const auto [on_a, on_b] = facing_elements(s);
+  int cleared = 0, crossed = 0;
+  for (int a : on_a)
+    for (int b : on_b) {
+      const bool cross = any_segment(s.forest.elements[a], s.forest.elements[b], [&](const Point3& p, const Point3& q) {
+        return segment_crosses_square(p, q, 3, lo, hi);
+      });
+      const bool clear = shafts.clear(a, b);
+      EXPECT_FALSE(clear && cross) << "elements " << a << ", " << b;
+      cleared += clear;
+      crossed += cross;
+    }
+  EXPECT_GT(crossed, 0);
+  EXPECT_GT(cleared, 0);
+}
+
+TEST(SolidShafts, ASolidBesideThePairIsSetApartByItsFacePlane) {
+  // C beside the corridor between A and B (y ∈ [2.02, 2.42], the faces' y ≤ 2): its bounding sphere
+  // reaches into the hulls of the pairs along the corridor's edge, but every pair lies in front of its
+  // face y = 2.02, behind which it lies whole. So every pair is cleared.
+  const Point3 lo{2.8, 2.02, 1.3}, hi{3.2, 2.42, 1.7};
+  const Scene3 s(true, true, test::box(lo, hi, false));
+  const SolidShafts shafts(s.forest, s.tree, s.inputs, s.solids.solid, s.solids.convex);
+  const auto [on_a, on_b] = facing_elements(s);
+  const Point3 centre{3.0, 2.22, 1.5};
+  const double radius = 0.5 * length(hi - lo);
+  int near = 0;
+  for (int a : on_a)
+    for (int b : on_b) {
+      const Element& A = s.forest.elements[a];
+      const Element& B = s.forest.elements[b];
+      EXPECT_TRUE(shafts.clear(a, b)) << "elements " << a << ", " << b;
+      // The segment between the centres lies in the hull: within C's radius of its centre, the hull
+      // meets C's sphere.
+      const Vector3 axis = B.centre - A.centre;
+      const double t = std::clamp(dot(centre - A.centre, axis) / length_squared(axis), 0.0, 1.0);
+      near += distance(centre, A.centre + axis * t) < radius;
+    }
+  EXPECT_GT(near, 0);
 }
 
 }  // namespace

@@ -121,8 +121,8 @@ bool HierarchicalOperator::refine_for(const OracleRadiosity& oracle, bool first,
   const double accuracy = scene_.solver.accuracy;
   const double epsilon = accuracy * oracle.power / r.total_area / kPowerShare;
   const double max_area = scene_.meshing.max_patch_area_m2.value_or(default_max_patch_area(scene_));
-  const Refiner refiner(h_, *vis_, *shafts_, *planes_, *solid_shafts_, values, epsilon, kUnitPatches * max_area, accuracy, r.exchange,
-                        r.hidden_room);
+  const Refiner refiner(h_, *vis_, *shafts_, *planes_, *solid_shafts_, values, epsilon, kUnitPatches * max_area, accuracy,
+                        r.exchange, r.hidden_room);
   found_.clear();
   bool changed = true;
   if (first) refine_first(refiner, control);
