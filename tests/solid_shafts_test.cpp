@@ -81,8 +81,8 @@ std::pair<std::vector<int>, std::vector<int>> facing_elements(const Scene3& s) {
   return {on_a, on_b};
 }
 
-// Segments between 6 × 6 points of each element (barycentric grid, corners included): whether one
-// of them meets `hit`.
+// Segments between 21 points of each element (a barycentric grid of step 1/5, corners included):
+// whether one of them meets `hit`.
 template <class Hit>
 bool any_segment(const Element& A, const Element& B, Hit&& hit) {
   for (int i = 0; i <= 5; ++i)

@@ -157,6 +157,10 @@ SolidShafts::SolidShafts(const ElementForest& forest, const ClusterTree& tree, s
     std::vector<Plane>& planes = faces[group[k]];
     if (!b.convex || planes.size() > kFacePlanes) continue;
     const Plane plane{unit_normal_of(inputs[k]), inputs[k].v[0]};
+    if (!(length_squared(plane.normal) > 0)) {  // a face of no area: the solid keeps its sphere alone,
+      planes.resize(kFacePlanes + 1);             // as one of too many planes does
+      continue;
+    }
     const bool known = std::any_of(planes.begin(), planes.end(), [&](const Plane& q) {
       return dot(q.normal, plane.normal) > 1 - 1e-12 && std::abs(dot(q.normal, plane.on - q.on)) <= tolerance_;
     });
