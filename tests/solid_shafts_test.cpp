@@ -8,6 +8,8 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
+#include <random>
 #include <vector>
 
 #include "solver/hierarchical/clusters.h"
@@ -200,6 +202,56 @@ TEST(SolidShafts, ASolidBesideThePairIsSetApartByItsFacePlane) {
       near += distance(centre, A.centre + axis * t) < radius;
     }
   EXPECT_GT(near, 0);
+}
+
+// BallHull::outside against its definition, min over t ∈ [0, 1] of |x − c(t)| − r(t), found here by
+// golden-section search (the function is convex in t) after a scan of 2 001 values of t, which
+// guards the search; and against the hull's meaning: a point between a point of each ball lies
+// inside. Cases: the balls apart, one inside the other (|k| ≥ 1, the ends only), concentric, points
+// on the axis, inside and far away.
+TEST(BallHull, OutsideIsTheLeastDistanceToTheInterpolatedBalls) {
+  std::mt19937 rng(20261206);
+  std::uniform_real_distribution<double> u(-1, 1), unit(0, 1);
+  auto point = [&](double scale) { return Point3{scale * u(rng), scale * u(rng), scale * u(rng)}; };
+  auto least = [](const Point3& ca, double ra, const Point3& cb, double rb, const Point3& x) {
+    auto f = [&](double t) { return distance(x, ca + (cb - ca) * t) - ((1 - t) * ra + t * rb); };
+    int best = 0;
+    for (int i = 1; i <= 2000; ++i) best = f(i / 2000.0) < f(best / 2000.0) ? i : best;
+    double lo = std::max(0.0, (best - 1) / 2000.0), hi = std::min(1.0, (best + 1) / 2000.0);
+    const double g = (std::sqrt(5.0) - 1) / 2;
+    for (int it = 0; it < 100; ++it) {
+      const double m1 = hi - g * (hi - lo), m2 = lo + g * (hi - lo);
+      (f(m1) < f(m2) ? hi : lo) = f(m1) < f(m2) ? m2 : m1;
+    }
+    return std::min({f(lo), f(hi), f(0), f(1)});
+  };
+  int nested = 0, apart = 0;
+  for (int trial = 0; trial < 2000; ++trial) {
+    const double scale = trial % 3 == 0 ? 1e-3 : trial % 3 == 1 ? 1.0 : 1e3;
+    const Point3 ca = point(scale);
+    const Point3 cb = trial % 50 == 0 ? ca : point(scale);
+    const double ra = scale * unit(rng), rb = scale * (trial % 7 == 0 ? 2 : 0.5) * unit(rng);
+    const double L = distance(ca, cb);
+    (std::abs(rb - ra) >= L ? nested : apart) += 1;
+    const BallHull hull(ca, ra, cb, rb);
+    for (int k = 0; k < 8; ++k) {
+      const Point3 x = k == 0 ? ca + (cb - ca) * (2 * unit(rng) - 0.5) : point(scale * (k < 4 ? 1 : 10));
+      // Tolerance: 1e-12 of the scale, the rounding of distances of that size (the search's own
+      // error in f is of order (1e-20)² · f'', far below it).
+      EXPECT_NEAR(hull.outside(x), least(ca, ra, cb, rb, x), 1e-12 * scale * 10) << "trial " << trial << " k " << k;
+    }
+    // Points between a point of each ball are in the hull (outside ≤ 0, to rounding).
+    for (int k = 0; k < 8; ++k) {
+      Vector3 da = point(1) - Point3{}, db = point(1) - Point3{};
+      da = da * (unit(rng) / std::max(1.0, length(da))) * ra;
+      db = db * (unit(rng) / std::max(1.0, length(db))) * rb;
+      const double s = unit(rng);
+      const Point3 x = (ca + da) + ((cb + db) - (ca + da)) * s;
+      EXPECT_LE(hull.outside(x), 1e-12 * scale * 10) << "trial " << trial;
+    }
+  }
+  EXPECT_GT(nested, 100);  // both branches of outside() were exercised
+  EXPECT_GT(apart, 100);
 }
 
 }  // namespace

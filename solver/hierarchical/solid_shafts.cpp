@@ -14,38 +14,6 @@ constexpr int kLeafBlockers = 4;
 // its rays: each costs a test of its planes, and so many near one pair seldom all keep out of it.
 constexpr int kNearBlockers = 8;
 
-// The hull of two balls (c_a, r_a) and (c_b, r_b). outside(x) is how far x lies outside it (negative
-// inside): the least over t ∈ [0, 1] of |x − c(t)| − r(t), c(t) = (1 − t) c_a + t c_b,
-// r(t) = (1 − t) r_a + t r_b. That is convex in t (a norm of an affine map less an affine one), so its
-// minimum on [0, 1] is its stationary point, clamped. With the axis u = (c_b − c_a)/L, x's coordinates
-// along it (a) and across it (y), and k = −(r_b − r_a)/L, the stationary point has x − c(t) making
-// cos = k with u: a − tL = k y / √(1 − k²). Where |k| ≥ 1 one ball holds the other: the least is at
-// an end.
-class BallHull {
- public:
-  BallHull(const Point3& ca, double ra, const Point3& cb, double rb)
-      : ca_(ca), ra_(ra), dr_(rb - ra), axis_(cb - ca), L_(length(axis_)) {
-    const double k = -dr_ / L_;
-    ends_only_ = !(L_ > 0) || !(std::abs(k) < 1);
-    if (!ends_only_) slope_ = k / std::sqrt(1 - k * k);
-  }
-  double outside(const Point3& x) const {
-    auto at = [&](double t) { return distance(x, ca_ + axis_ * t) - (ra_ + t * dr_); };
-    if (ends_only_) return std::min(at(0), at(1));
-    const Vector3 to = x - ca_;
-    const double along = dot(to, axis_) / L_;
-    const double across = std::sqrt(std::max(0.0, length_squared(to) - along * along));
-    return at(std::clamp((along - slope_ * across) / L_, 0.0, 1.0));
-  }
-
- private:
-  Point3 ca_;
-  double ra_, dr_;
-  Vector3 axis_;
-  double L_, slope_ = 0;
-  bool ends_only_;
-};
-
 // Whether the segment p + t d, t ∈ [0, 1], meets the box grown by `grow` on every side (slab test;
 // `inverse`: 1 / d per axis, ±∞ where d is 0; a 0 × ∞ there is NaN, which max and min pass over, so
 // that axis then bounds nothing: conservative).
