@@ -30,17 +30,25 @@ LeafGather::LeafGather(Hierarchy& h, const ExactVisibility& exact, const PlaneVe
   }
 }
 
-bool LeafGather::fits(std::size_t budget) {
+void LeafGather::mark_cluster_links(bool proven) {
   cluster_link_expands_.assign(h_.cluster_links.size(), 0);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, h_.cluster_links.size(), 16), [&](const auto& range) {
-    for (std::size_t l = range.begin(); l != range.end(); ++l) cluster_link_expands_[l] = expands(h_.cluster_links[l]);
+    for (std::size_t l = range.begin(); l != range.end(); ++l) cluster_link_expands_[l] = expands(h_.cluster_links[l], proven);
   });
+}
+
+bool LeafGather::fits(std::size_t budget) {
+  mark_cluster_links(true);
   if (retrace_) {
     mark_crowded_links();
     for (std::size_t l = 0; l < h_.cluster_links.size(); ++l)
       if (crowded_.cluster[l]) cluster_link_expands_[l] = 0;
   }
   std::size_t n = count();
+  if (n > budget && !retrace_) {  // (with retrace every link into a cluster expands, proven or not)
+    mark_cluster_links(false);
+    n = count();
+  }
   if (n > budget && clustered_hidden_) {  // without the hidden links from and into clusters
     clustered_hidden_ = false;
     n = count();
@@ -196,11 +204,11 @@ void LeafGather::mark_crowded_links() {
   });
 }
 
-bool LeafGather::expands(const ClusterLink& l) const {
+bool LeafGather::expands(const ClusterLink& l, bool proven) const {
   std::array<int, 1> element{l.source};
   const std::span<const int> sources = l.from_cluster ? small_cluster(l.source) : std::span<const int>(element);
   if (sources.empty()) return false;
-  if (retrace_) return true;
+  if (retrace_ || (proven && l.proven_visible)) return true;
   const Cluster& R = h_.clusters[l.receiver];
   if (static_cast<std::size_t>(R.root_count) * sources.size() > kMaxCheckedPairs) return false;
   for (int k = R.first_root; k < R.first_root + R.root_count; ++k)
@@ -227,9 +235,10 @@ void LeafGather::gather_block(std::size_t r, std::vector<Link>& out, LeafGatherS
   // Expanded links into the clusters above this root: the same sources for all its leaves.
   std::vector<Entry> from_cluster_links;
   auto add_sources = [&](const ClusterLink& link) {
-    if (!link.from_cluster) from_cluster_links.push_back({link.source, LinkVisibility::Unknown});
+    const LinkVisibility verdict = link.proven_visible ? LinkVisibility::ShaftClear : LinkVisibility::Unknown;
+    if (!link.from_cluster) from_cluster_links.push_back({link.source, verdict});
     for (int s : link.from_cluster ? small_cluster(link.source) : std::span<const int>{})
-      from_cluster_links.push_back({s, LinkVisibility::Unknown});
+      from_cluster_links.push_back({s, verdict});
   };
   for (int c = cluster_of_root_[first]; c >= 0; c = cluster_parent_[c]) {
     for (std::size_t l = h_.cluster_link_start[c]; l < h_.cluster_link_start[c + 1]; ++l)

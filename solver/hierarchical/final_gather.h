@@ -15,7 +15,12 @@
 // Visibility. By default only links whose visibility holds for every leaf below are expanded: the
 // refinement proved their shaft clear, or their rays were all unobstructed (the verdict the
 // refinement itself trusts), or the occluder planes separate nothing between the pair
-// (occluder_planes.h). Links found partly hidden stay as they are. With `retrace` (the scene's
+// (occluder_planes.h); links into clusters also where the refiner proved them wholly visible as it
+// formed them (ClusterLink::proven_visible). Those carry a one-point or vector estimate whose errors,
+// each within the oracle's budget, add up with one sign over many sources: a square emitter's
+// elements lighting a faceted sphere through clusters erred by up to 9.8 % on facets the whole
+// emitter lights, 5e-9 expanded (tests/hierarchical_test.cpp; docs/BENCHMARKS.md for the lit sphere
+// room). Where their leaf links would pass the budget, they keep their estimates. Links found partly hidden stay as they are. With `retrace` (the scene's
 // solver.exact_visibility), every link is expanded, those found hidden too (LinkSet::hidden_links),
 // and each leaf link whose visibility is not proven is evaluated exactly, with no ray: the occluders
 // in the shaft between the leaf and the input triangle its source was cut from
@@ -83,7 +88,8 @@ class LeafGather {
              bool retrace, const AreaFactorOptions& near_field);
 
   // Whether there are leaf links to form, at most `budget` of them; where there would be more, the
-  // hidden links from and into clusters are left out first. Prepares run().
+  // links into clusters proven visible only as a whole keep their estimates, and then the hidden
+  // links from and into clusters are left out. Prepares run().
   bool fits(std::size_t budget);
 
   // Replaces the links that expand by leaf links (see above); the others stay. The links that expand
@@ -141,7 +147,12 @@ class LeafGather {
   // others' visibility is proven). In a scene of at most kSmallScene occluders, none.
   void mark_crowded_links();
   std::size_t roots_of(const ClusterLink& l) const { return l.from_cluster ? small_cluster(l.source).size() : 1; }
-  bool expands(const ClusterLink& l) const;
+  // Whether link l into a cluster expands to the cluster's roots: with retrace, any from an element or
+  // a small cluster; by default where the visibility of every root pair is certain, by the occluder
+  // planes root by root or, where `proven` is allowed, by the link's own proof (proven_visible).
+  bool expands(const ClusterLink& l, bool proven) const;
+  // Marks the links into clusters that expand (cluster_link_expands_; see expands).
+  void mark_cluster_links(bool proven);
   std::size_t cluster_leaves(int c) const;
 
   // Whether link l at `receiver` is replaced by leaf links: it expands, unless it is a leaf's own

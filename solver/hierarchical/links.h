@@ -93,12 +93,17 @@ static_assert(sizeof(LeafLink) == 12);
 struct ClusterLink {
   int receiver = 0;          // cluster
   int source = 0;            // cluster, or element when !from_cluster
-  bool from_cluster = false;
+  bool from_cluster : 1 = false;
+  // Proven wholly visible as it was formed (by the occluder planes or the solids' shafts, no rays).
+  // So is every pair of a root below the receiver and one of the source, whose segments lie in the
+  // pair's shaft: the final gather may expand the link root by root (LeafGather::expands).
+  bool proven_visible : 1 = false;
   std::array<unsigned char, 3> bin{};
   std::array<float, 3> coeff{};   // cluster source: weights of Φ_bin; element source: Ψ = coeff[0] × B
   std::array<float, 3> toward{};  // unit direction from the receiver to the source
   float error_per_B = 0;
 };
+static_assert(sizeof(ClusterLink) == 40);
 
 // The coefficients of a pending leaf-to-leaf link whose factor is computed once its rays find it
 // visible (a NaN: no fit or factor is one).

@@ -278,8 +278,8 @@ void Refiner::refine_pair(int rc, int s, bool from_cluster, LinkBatch& out) cons
   }
   link.toward = {static_cast<float>(-w.x), static_cast<float>(-w.y), static_cast<float>(-w.z)};
   link.error_per_B = static_cast<float>(error_per_B);
-  if (planes_.clear_cluster(rc, s, from_cluster) || solids_.clear_cluster(rc, s, from_cluster))
-    out.cluster_links.push_back(link);  // wholly visible, no rays
+  link.proven_visible = planes_.clear_cluster(rc, s, from_cluster) || solids_.clear_cluster(rc, s, from_cluster);
+  if (link.proven_visible) out.cluster_links.push_back(link);  // wholly visible, no rays
   else out.cluster_pending.push_back(link);
 }
 
@@ -293,8 +293,8 @@ void Refiner::link_vector_estimate(int rc, int s, double error_per_B, LinkBatch&
   link.coeff[0] = static_cast<float>(F);
   link.toward = {static_cast<float>(V.x / F), static_cast<float>(V.y / F), static_cast<float>(V.z / F)};
   link.error_per_B = static_cast<float>(error_per_B);
-  if (planes_.clear_cluster(rc, s, false) || solids_.clear_cluster(rc, s, false))
-    out.cluster_links.push_back(link);  // wholly visible, no rays
+  link.proven_visible = planes_.clear_cluster(rc, s, false) || solids_.clear_cluster(rc, s, false);
+  if (link.proven_visible) out.cluster_links.push_back(link);  // wholly visible, no rays
   else out.cluster_pending.push_back(link);
 }
 
