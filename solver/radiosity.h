@@ -46,7 +46,8 @@ struct SolveStats {
   std::size_t links = 0;               // dense: patch pairs with a non-zero factor; hierarchical: every link
   std::uint64_t rays = 0;
   std::uint64_t exact_visibility_evaluations = 0;  // exact Boolean evaluations (probe point × input triangle)
-  std::uint64_t links_clear = 0;       // links wholly visible by the occluder planes: no rays (occluder_planes.h)
+  std::uint64_t links_clear = 0;       // links wholly visible by the occluder planes (occluder_planes.h) or,
+                                       // hierarchical, the solids' shafts (solid_shafts.h): no rays
   std::uint64_t link_rays = 0;         // rays traced for links
   int iterations = 0;                  // largest over the spectral systems
   double residual = 0;                 // largest final relative residual

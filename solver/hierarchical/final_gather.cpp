@@ -139,7 +139,7 @@ std::span<const int> LeafGather::small_cluster(int c) const {
 std::size_t LeafGather::sources_of(const Link& l, std::size_t index, int receiver) const {
   const bool exact = retrace_ && !keeps_rays(index);
   if (!l.from_cluster)
-    return exact || l.visibility() == LinkVisibility::ShaftClear || l.visibility() == LinkVisibility::RaysUnanimous || clear(receiver, l.source) ? 1 : 0;
+    return exact || l.visibility() == LinkVisibility::ShaftClear || rays_unanimous(l.visibility()) || clear(receiver, l.source) ? 1 : 0;
   const auto roots = small_cluster(l.source);
   if (roots.empty()) return 0;
   if (!exact)
@@ -156,7 +156,7 @@ std::span<const int> LeafGather::sources_of_hidden(std::size_t index) const {
 }
 
 LinkVisibility LeafGather::verdict_of(const Link& l, std::size_t index) const {
-  return retrace_ && crowded_.link[index] && l.visibility() == LinkVisibility::RaysUnanimous ? LinkVisibility::RaysTrusted
+  return retrace_ && crowded_.link[index] && rays_unanimous(l.visibility()) ? LinkVisibility::RaysTrusted
                                                                                                : l.visibility();
 }
 

@@ -25,7 +25,7 @@ void LeafGather::form_links(int e, const std::vector<Entry>& entries, const std:
     const Element& S = h_.elements[entry.source];
     const bool proven = entry.verdict == LinkVisibility::ShaftClear || clear(e, entry.source);
     const bool visible = proven || entry.verdict == LinkVisibility::RaysTrusted ||
-                         (!retrace_ && entry.verdict == LinkVisibility::RaysUnanimous);
+                         (!retrace_ && rays_unanimous(entry.verdict));
     const bool near = near_F[k] >= 0;
     double F = 0;
     int f_row = -1;

@@ -31,16 +31,20 @@ inline constexpr unsigned char kCentroid = 85;  // 1/3
 enum class LinkVisibility : unsigned char {
   Unknown,        // partly hidden by its rays (or not yet traced)
   ShaftClear,     // no occluder in the pair's hull: wholly visible
-  // Every ray of it was unobstructed, or would be: the solids' shafts (solid_shafts.h) proved it before
-  // any was traced. Not ShaftClear, so that with solver.exact_visibility the final gather evaluates
-  // the leaves' own visibility as it does for any link its rays found visible (docs/BENCHMARKS.md:
-  // as ShaftClear, a furnace room's rows closed to 3.4e-5 instead of 7.8e-7).
-  RaysUnanimous,
+  RaysUnanimous,  // every ray of it was unobstructed
   // What a leaf of the final gather takes from a link whose rays were unanimous and whose shaft holds
   // too many occluders for exact visibility (LeafGather::mark_crowded_links): wholly visible, as by
   // default.
   RaysTrusted,
+  // Wholly visible: the solids' shafts (solid_shafts.h) proved it before any ray was traced. The
+  // final gather takes it as it takes RaysUnanimous (with solver.exact_visibility it evaluates the
+  // leaves' own visibility): taken as ShaftClear, a furnace room's rows closed to 3.4e-5 instead of
+  // 7.8e-7 (docs/BENCHMARKS.md).
+  SolidsClear,
 };
+
+// Every ray of the link was unobstructed, or would have been: the verdicts the gather takes alike.
+inline bool rays_unanimous(LinkVisibility v) { return v == LinkVisibility::RaysUnanimous || v == LinkVisibility::SolidsClear; }
 
 struct Link {
   int receiver = 0;          // element

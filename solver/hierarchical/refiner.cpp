@@ -140,7 +140,7 @@ void Refiner::refine_to_element(int r, int s, LinkBatch& out) const {
   link.error_per_B = static_cast<float>((residual + partial) * weight);
   if (h_.has_children(s)) link.bin = source_point_of(S, R);
   link.set_visibility(clear       ? LinkVisibility::ShaftClear
-                      : unblocked ? LinkVisibility::RaysUnanimous
+                      : unblocked ? LinkVisibility::SolidsClear
                                   : LinkVisibility::Unknown);
   if (clear || unblocked) out.links.push_back(link);
   else out.pending.push_back(link);
@@ -463,7 +463,7 @@ void Refiner::link_leaves(int r, int s, LinkBatch& out) const {
     const double F = leaf_exchange(r, s) / h_.elements[r].area;
     if (!(F > 0)) return;
     link.coeff.fill(static_cast<float>(F));
-    link.set_visibility(clear ? LinkVisibility::ShaftClear : LinkVisibility::RaysUnanimous);
+    link.set_visibility(clear ? LinkVisibility::ShaftClear : LinkVisibility::SolidsClear);
     out.links.push_back(link);
     return;
   }

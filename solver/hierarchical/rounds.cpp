@@ -221,9 +221,11 @@ void HierarchicalOperator::store_links(bool first) {
 void HierarchicalOperator::gather_at_leaves(const SolveControl& control) {
   Rounds& r = rounds_;
   r.gathered = true;
-  // The refinement's final element links that the occluder planes cleared (no rays).
+  // The refinement's final element links that the occluder planes or the solids' shafts cleared (no
+  // rays).
   own_links_clear_ = static_cast<std::uint64_t>(std::count_if(h_.links.begin(), h_.links.end(), [&](const Link& l) {
-    return !l.from_cluster && l.source >= 0 && planes_->clear(l.receiver, l.source);
+    return !l.from_cluster && l.source >= 0 &&
+           (l.visibility() == LinkVisibility::SolidsClear || planes_->clear(l.receiver, l.source));
   }));
   const double accuracy = scene_.solver.accuracy;
   const bool retrace = scene_.solver.exact_visibility;
