@@ -23,7 +23,8 @@ void LeafGather::form_links(int e, const std::vector<Entry>& entries, const std:
     if (!usable[k]) continue;
     const Entry& entry = entries[k];
     const Element& S = h_.elements[entry.source];
-    const bool proven = entry.verdict == LinkVisibility::ShaftClear || clear(e, entry.source);
+    const bool proven = entry.verdict == LinkVisibility::ShaftClear || entry.verdict == LinkVisibility::SolidsClear ||
+                        clear(e, entry.source);
     const bool visible = proven || entry.verdict == LinkVisibility::RaysTrusted ||
                          (!retrace_ && rays_unanimous(entry.verdict));
     const bool near = near_F[k] >= 0;
