@@ -1,9 +1,11 @@
-// CGAL side of mesh/mesh_ops.h: polygon triangulation and mesh health checks. This is the only
-// translation unit that includes CGAL (it costs about 15 s to compile), and no CGAL type leaves it.
+// CGAL side of mesh/mesh_ops.h: polygon triangulation, mesh health checks, sliver merging and the
+// contact imprint. With polygon_boolean.cpp, one of the two translation units that include CGAL (it
+// costs about 15 s to compile), and no CGAL type leaves it.
 //
 // All decisions (collinearity, simplicity, intersections) use the exact predicates of the Epick
 // kernel on the input coordinates; no constructed (rounded) point is ever tested.
 #include "mesh/mesh_ops.h"
+#include "mesh/contacts.h"
 #include "mesh/polygon_boolean.h"
 
 #include <CGAL/Constrained_Delaunay_triangulation_2.h>
@@ -582,61 +584,67 @@ namespace {
 // the crossing points (constructed in double precision).
 using ImprintCDT = CGAL::Constrained_Delaunay_triangulation_2<K, CGAL::Default, CGAL::Exact_predicates_tag>;
 
-// The segment a→b where triangle u meets the plane of t (through t.v[0], unit normal n), if a part
-// of positive length of it lies inside t and not along an edge of t; false otherwise, or if u lies
-// in the plane. Distances below eps count as zero. The segment is returned whole, not clipped to t:
-// the triangulation then computes its crossings with t's edges itself and splits both there, where
-// a clipped end point rounded beside an edge would leave sliver pieces.
-bool contact_segment(const Triangle& t, const Vector3& n, const Triangle& u, double eps, Point3& a, Point3& b) {
-  double d[3];
-  int zero = 0, positive = 0, negative = 0;
-  for (int k = 0; k < 3; ++k) {
-    d[k] = dot(u.v[k] - t.v[0], n);
-    if (std::abs(d[k]) <= eps) { d[k] = 0; ++zero; }
-    else if (d[k] > 0) ++positive;
-    else ++negative;
-  }
-  if (zero == 3 || (zero + positive == 3 && zero < 2) || (zero + negative == 3 && zero < 2)) return false;
-  std::vector<Point3> ends;
-  for (int k = 0; k < 3; ++k) {
-    const int l = (k + 1) % 3;
-    if (d[k] == 0) ends.push_back(u.v[k] - n * dot(u.v[k] - t.v[0], n));  // onto the plane exactly
-    if (d[k] * d[l] < 0) {
-      const Point3 q = u.v[k] + (u.v[l] - u.v[k]) * (d[k] / (d[k] - d[l]));
-      ends.push_back(q - n * dot(q - t.v[0], n));
+// Adds to `mesh` the pieces of triangle t (corners `original` in it) cut along `cuts`, each flagged
+// where it lies on one of `facing` (triangles facing the other way in t's plane, with their meshes).
+// Returns how many pieces, and how many lie on such a face.
+std::pair<std::size_t, std::size_t> add_pieces(const Triangle& t, const std::array<int, 3>& original,
+                                               const std::vector<std::pair<Point3, Point3>>& cuts,
+                                               const std::vector<std::pair<Triangle, int>>& facing, double eps,
+                                               TriangleMesh& mesh, std::vector<char>& flags, std::vector<int>& opposite) {
+  const Vector3 n = t.normal();
+  const Vector3 e1 = normalize(t.v[1] - t.v[0]), e2 = cross(n, e1);
+  auto to_2d = [&](const Point3& p) { return P2(dot(p - t.v[0], e1), dot(p - t.v[0], e2)); };
+  ImprintCDT cdt;
+  std::vector<ImprintCDT::Vertex_handle> corners;
+  for (const Point3& p : t.v) corners.push_back(cdt.insert(to_2d(p)));
+  for (int k = 0; k < 3; ++k) cdt.insert_constraint(corners[k], corners[(k + 1) % 3]);
+  for (const auto& [a, b] : cuts) cdt.insert_constraint(to_2d(a), to_2d(b));
+  std::map<ImprintCDT::Vertex_handle, int> index;
+  for (int k = 0; k < 3; ++k) index[corners[k]] = original[k];  // the corners stay shared
+  std::size_t pieces = 0, pieces_on_opposite = 0;
+  for (ImprintCDT::Face_handle f : cdt.finite_face_handles()) {
+    // Segments reach beyond t: keep the faces inside it (centroid inside t's three edges).
+    const P2 centroid = CGAL::centroid(f->vertex(0)->point(), f->vertex(1)->point(), f->vertex(2)->point());
+    bool inside = true;
+    for (int k = 0; k < 3; ++k)
+      inside &= CGAL::orientation(corners[k]->point(), corners[(k + 1) % 3]->point(), centroid) != CGAL::RIGHT_TURN;
+    if (!inside) continue;
+    // Crossings of nearly collinear constraints are constructed in double precision and can leave
+    // slivers narrower than the tolerance (2·10⁻¹⁶ m² at a desk's corner): rounding, not geometry,
+    // and their factors would be noise. Such pieces are dropped (their area is below eps × edge).
+    {
+      const P2 &a = f->vertex(0)->point(), &b = f->vertex(1)->point(), &c = f->vertex(2)->point();
+      const double longest = std::sqrt(std::max({CGAL::squared_distance(a, b), CGAL::squared_distance(b, c),
+                                                 CGAL::squared_distance(c, a)}));
+      if (2 * std::abs(CGAL::area(a, b, c)) <= 4 * eps * longest) continue;
     }
-  }
-  if (ends.size() < 2) return false;
-  a = ends[0];
-  b = ends[1];
-  // Clip a→b to t (Cyrus–Beck against the three edge half-planes, in t's plane).
-  double lo = 0, hi = 1;
-  const Vector3 ab = b - a;
-  for (int e = 0; e < 3; ++e) {
-    const Point3& p = t.v[e];
-    const Point3& q = t.v[(e + 1) % 3];
-    const Vector3 inward = cross(n, q - p);  // t is counter-clockwise about n
-    const double da = dot(a - p, inward), dab = dot(ab, inward);
-    const double scale = length(inward) * eps;
-    if (std::abs(dab) <= 1e-300) {
-      if (da < -scale) return false;
-      continue;
+    const auto on = std::find_if(facing.begin(), facing.end(), [&](const std::pair<Triangle, int>& face) {
+      const Triangle& u = face.first;
+      const P2 a = to_2d(u.v[0]), b = to_2d(u.v[1]), c = to_2d(u.v[2]);  // clockwise in t's frame
+      return CGAL::orientation(a, b, centroid) != CGAL::LEFT_TURN &&
+             CGAL::orientation(b, c, centroid) != CGAL::LEFT_TURN &&
+             CGAL::orientation(c, a, centroid) != CGAL::LEFT_TURN;
+    });
+    const bool on_opposite = on != facing.end();
+    std::array<int, 3> tri{};
+    for (int k = 0; k < 3; ++k) {
+      const auto v = f->vertex(k);
+      auto [it, added] = index.try_emplace(v, 0);
+      if (added) {
+        const P2& q = v->point();
+        mesh.vertices.push_back(t.v[0] + e1 * q.x() + e2 * q.y());
+        it->second = static_cast<int>(mesh.vertices.size()) - 1;
+      }
+      tri[k] = it->second;
     }
-    const double s = -da / dab;
-    if (dab > 0) lo = std::max(lo, s);
-    else hi = std::min(hi, s);
+    // The triangulation is counter-clockwise in (e1, e2), i.e. about n: t's orientation.
+    mesh.triangles.push_back(tri);
+    flags.push_back(on_opposite ? 1 : 0);
+    opposite.push_back(on_opposite ? on->second : -1);
+    pieces_on_opposite += on_opposite;
+    ++pieces;
   }
-  if (!(hi - lo > 0) || length(ab) * (hi - lo) <= 8 * eps) return false;
-  // Along an edge of t: both ends of the part inside within eps of the same edge line.
-  const Point3 in_a = a + ab * lo, in_b = a + ab * hi;
-  for (int e = 0; e < 3; ++e) {
-    const Point3& p = t.v[e];
-    const Vector3 edge = t.v[(e + 1) % 3] - p;
-    const double len = length(edge);
-    auto off_edge = [&](const Point3& x) { return length(cross(edge, x - p)) / len; };
-    if (off_edge(in_a) <= 4 * eps && off_edge(in_b) <= 4 * eps) return false;
-  }
-  return true;
+  return {pieces, pieces_on_opposite};
 }
 
 }  // namespace
@@ -695,18 +703,7 @@ ContactImprint imprint_contacts(const std::vector<TriangleMesh>& meshes, double 
     } else if (ti < ui && rt.mesh != ru.mesh && dot(u.normal(), n) > 0 &&
                std::all_of(u.v.begin(), u.v.end(), [&](const Point3& p) { return std::abs(dot(p - t.v[0], n)) <= eps; })) {
       // Coplanar and facing the same way: if they overlap, both radiate from the same place.
-      const Vector3 e1 = normalize(t.v[1] - t.v[0]), e2 = cross(n, e1);
-      auto flat = [&](const Triangle& x) {
-        Loop2d loop;
-        for (const Point3& p : x.v) loop.push_back({dot(p - t.v[0], e1), dot(p - t.v[0], e2)});
-        return loop;
-      };
-      double left = 0;
-      for (const Loop2d& loop : convex_difference(flat(t), std::vector<Loop2d>{flat(u)})) {
-        for (std::size_t k = 0; k < loop.size(); ++k)
-          left += 0.5 * (loop[k][0] * loop[(k + 1) % loop.size()][1] - loop[(k + 1) % loop.size()][0] * loop[k][1]);
-      }
-      const double shared = t.area() - left;
+      const double shared = coplanar_shared_area(t, n, u);
       if (shared > 1e-9 * t.area()) out.overlaps.push_back({rt.mesh, ru.mesh, shared});
     }
   };
@@ -732,60 +729,10 @@ ContactImprint imprint_contacts(const std::vector<TriangleMesh>& meshes, double 
       opposite.push_back(-1);
       continue;
     }
-    const Triangle t = meshes[refs[r].mesh].triangle(refs[r].triangle);
-    const Vector3 n = t.normal();
-    const Vector3 e1 = normalize(t.v[1] - t.v[0]), e2 = cross(n, e1);
-    auto to_2d = [&](const Point3& p) { return P2(dot(p - t.v[0], e1), dot(p - t.v[0], e2)); };
-    ImprintCDT cdt;
-    std::vector<ImprintCDT::Vertex_handle> corners;
-    for (const Point3& p : t.v) corners.push_back(cdt.insert(to_2d(p)));
-    for (int k = 0; k < 3; ++k) cdt.insert_constraint(corners[k], corners[(k + 1) % 3]);
-    for (const auto& [a, b] : cuts[r]) cdt.insert_constraint(to_2d(a), to_2d(b));
-    std::map<ImprintCDT::Vertex_handle, int> index;
-    for (int k = 0; k < 3; ++k) index[corners[k]] = original[k];  // the corners stay shared
-    std::size_t pieces = 0, pieces_on_opposite = 0;
-    for (ImprintCDT::Face_handle f : cdt.finite_face_handles()) {
-      // Segments reach beyond t: keep the faces inside it (centroid inside t's three edges).
-      const P2 centroid = CGAL::centroid(f->vertex(0)->point(), f->vertex(1)->point(), f->vertex(2)->point());
-      bool inside = true;
-      for (int k = 0; k < 3; ++k)
-        inside &= CGAL::orientation(corners[k]->point(), corners[(k + 1) % 3]->point(), centroid) != CGAL::RIGHT_TURN;
-      if (!inside) continue;
-      // Crossings of nearly collinear constraints are constructed in double precision and can leave
-      // slivers narrower than the tolerance (2·10⁻¹⁶ m² at a desk's corner): rounding, not geometry,
-      // and their factors would be noise. Such pieces are dropped (their area is below eps × edge).
-      {
-        const P2 &a = f->vertex(0)->point(), &b = f->vertex(1)->point(), &c = f->vertex(2)->point();
-        const double longest = std::sqrt(std::max({CGAL::squared_distance(a, b), CGAL::squared_distance(b, c),
-                                                   CGAL::squared_distance(c, a)}));
-        if (2 * std::abs(CGAL::area(a, b, c)) <= 4 * eps * longest) continue;
-      }
-      const auto on = std::find_if(facing[r].begin(), facing[r].end(), [&](int ui) {
-        const Triangle u = meshes[refs[ui].mesh].triangle(refs[ui].triangle);
-        const P2 a = to_2d(u.v[0]), b = to_2d(u.v[1]), c = to_2d(u.v[2]);  // clockwise in t's frame
-        return CGAL::orientation(a, b, centroid) != CGAL::LEFT_TURN &&
-               CGAL::orientation(b, c, centroid) != CGAL::LEFT_TURN &&
-               CGAL::orientation(c, a, centroid) != CGAL::LEFT_TURN;
-      });
-      const bool on_opposite = on != facing[r].end();
-      std::array<int, 3> tri{};
-      for (int k = 0; k < 3; ++k) {
-        const auto v = f->vertex(k);
-        auto [it, added] = index.try_emplace(v, 0);
-        if (added) {
-          const P2& q = v->point();
-          mesh.vertices.push_back(t.v[0] + e1 * q.x() + e2 * q.y());
-          it->second = static_cast<int>(mesh.vertices.size()) - 1;
-        }
-        tri[k] = it->second;
-      }
-      // The triangulation is counter-clockwise in (e1, e2), i.e. about n: t's orientation.
-      mesh.triangles.push_back(tri);
-      flags.push_back(on_opposite ? 1 : 0);
-      opposite.push_back(on_opposite ? refs[*on].mesh : -1);
-      pieces_on_opposite += on_opposite;
-      ++pieces;
-    }
+    std::vector<std::pair<Triangle, int>> faces;  // the faces t lies on, and their meshes
+    for (int ui : facing[r]) faces.emplace_back(meshes[refs[ui].mesh].triangle(refs[ui].triangle), refs[ui].mesh);
+    const auto [pieces, pieces_on_opposite] = add_pieces(meshes[refs[r].mesh].triangle(refs[r].triangle), original,
+                                                          cuts[r], faces, eps, mesh, flags, opposite);
     if (pieces > 1 || pieces_on_opposite > 0) {
       ++out.triangles_cut;
       out.segments += cuts[r].size();
