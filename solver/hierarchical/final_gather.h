@@ -20,12 +20,13 @@
 // each within the oracle's budget, add up with one sign over many sources: a square emitter's
 // elements lighting a faceted sphere through clusters erred by up to 9.8 % on facets the whole
 // emitter lights, 5e-9 expanded (tests/hierarchical_test.cpp; docs/BENCHMARKS.md for the lit sphere
-// room). Where their leaf links would pass the budget, they keep their estimates. Links found partly hidden stay as they are. With `retrace` (the scene's
-// solver.exact_visibility), every link is expanded, those found hidden too (LinkSet::hidden_links),
-// and each leaf link whose visibility is not proven is evaluated exactly, with no ray: the occluders
-// in the shaft between the leaf and the input triangle its source was cut from
-// (ExactVisibility::shaft_occluders; none: wholly visible), and at each node of the leaf's rule the
-// factor they hide (their shadow on that triangle's plane, ExactVisibility::Shadow). Links whose
+// room). Where their leaf links would pass the budget, they keep their estimates. Links found partly
+// hidden stay as they are. With `retrace` (the scene's solver.exact_visibility), every link is
+// expanded, those found hidden too (LinkSet::hidden_links), and each leaf link whose visibility is
+// not proven is evaluated exactly, with no ray: the occluders in the shaft between the leaf and the
+// input triangle its source was cut from (ExactVisibility::shaft_occluders; none: wholly visible),
+// and at each node of the leaf's rule the factor they hide (their shadow on that triangle's plane,
+// ExactVisibility::Shadow). Links whose
 // pair's box holds too many occluders are crowded (mark_crowded_links): they stay as by default (the
 // partly hidden keep their rays' estimate, the hidden stay hidden, the unanimous are trusted), which
 // bounds the work where many occluders stand between many patches (a city block: 133 s, where

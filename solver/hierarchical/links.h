@@ -44,7 +44,9 @@ enum class LinkVisibility : unsigned char {
 };
 
 // Every ray of the link was unobstructed, or would have been: the verdicts the gather takes alike.
-inline bool rays_unanimous(LinkVisibility v) { return v == LinkVisibility::RaysUnanimous || v == LinkVisibility::SolidsClear; }
+inline bool rays_unanimous(LinkVisibility v) {
+  return v == LinkVisibility::RaysUnanimous || v == LinkVisibility::SolidsClear;
+}
 
 struct Link {
   int receiver = 0;          // element
