@@ -15,6 +15,7 @@
 
 #include "solver/cubature.h"
 #include "solver/form_factor.h"
+#include "tests/hierarchical_helpers.h"
 #include "tests/scene_builder.h"
 
 namespace lambert {
@@ -25,28 +26,9 @@ using test::for_each_box_face;
 using test::surface_mean;
 using test::rectangle;
 using test::SceneBuilder;
-
-Solution solve_with(Scene scene, SolverMethod method) {
-  scene.solver.method = method;
-  return solve(scene);
-}
-
-// The mean of f over a patch by the degree-5 rule on 64 similar parts (kernels that are
-// log-singular at an edge, or kinked at a shadow's edge, need the parts).
-template <class F>
-double patch_mean_by_parts(const Patch& P, F f) {
-  std::vector<Triangle> parts = {P.triangle};
-  for (int level = 0; level < 3; ++level) {
-    std::vector<Triangle> finer;
-    for (const Triangle& t : parts)
-      for (const Triangle& c : split4(t)) finer.push_back(c);
-    parts.swap(finer);
-  }
-  const TriangleRule rule = triangle_rule_degree5();
-  double sum = 0;
-  for (const Triangle& t : parts) sum += apply_rule(rule, t, f);
-  return sum / P.area_m2;
-}
+using test::expect_furnace;
+using test::patch_mean_by_parts;
+using test::solve_with;
 
 TEST(Hierarchical, OpposedSquaresPatchAverage) {
   // REFERENCES §0 and V3: E_avg(A2) = M1 F21 = C-11(X, Y) for M1 = 1.
@@ -76,16 +58,6 @@ TEST(Hierarchical, PerpendicularRectanglesPatchAverage) {
   const Solution sol = solve_with(b.scene(), SolverMethod::Hierarchical);
   const double F = test::howell_c14(W, H);
   EXPECT_NEAR(surface_mean(sol, 0, sol.irradiance), 2.0 * F, 5e-4 * 2.0 * F);
-}
-
-// R1: every surface emits M = 1 with the same ρ in a closed enclosure, so B = M/(1 − ρ) on every
-// patch (to 0.1 %), and the energy certificate balances (to 1e-3).
-void expect_furnace(const Solution& sol, double rho) {
-  const double expected = 1 / (1 - rho);
-  double worst = 0;
-  for (double B : sol.radiosity) worst = std::max(worst, std::abs(B - expected) / expected);
-  EXPECT_LT(worst, 1e-3) << "rho=" << rho;
-  EXPECT_LT(std::abs(sol.stats.relative_imbalance), 1e-3) << "rho=" << rho;
 }
 
 TEST(Hierarchical, FurnaceRoomWithFloatingBox) {
@@ -414,65 +386,6 @@ TEST(Hierarchical, GreyRoomLitByItsFloorAgreesWithTheDenseSolverAtItsEdges) {
   EXPECT_GT(hier.stats.links_clear, 0u);
 }
 
-TEST(Hierarchical, FurnaceRoomWithFacetedSpheres) {
-  // R1 with two floating faceted spheres (320 triangles each, in as many planes): their facets are
-  // roots of their own, reached through clusters as sources and as receivers. B = 1/(1 − ρ) on every
-  // patch, for ρ = 0.5 and 0.999 (B = 1000 M: an error in the balance is multiplied by 1000).
-  for (double rho : {0.5, 0.999}) {
-    SceneBuilder b;
-    const int m = b.material("wall", rho);
-    b.surface("room", m, box({0, 0, 0}, {4, 3, 3}, true), 1.0);
-    b.surface("sphere 1", m, test::icosphere({1.2, 1.5, 1.4}, 0.6, 2), 1.0);
-    b.surface("sphere 2", m, test::icosphere({2.9, 1.4, 1.7}, 0.5, 2), 1.0);
-    b.max_patch_area(0.1);
-    b.scene().solver.tolerance = 1e-9;
-    const Solution sol = solve_with(b.scene(), SolverMethod::Hierarchical);
-    expect_furnace(sol, rho);
-  }
-}
-
-TEST(Hierarchical, AnEmittersLightOnAFacetedSphereIsGatheredExactlyWhereNothingCanHideIt) {
-  // A faceted sphere (1 280 facets, r = 0.6 m) under an emitting 1 × 1 m square 1.2 m above its top,
-  // both black, nothing else. A convex solid hides nothing in front of a facet from that facet, so a
-  // facet that has the whole square in front of it at every vertex receives M times its mean point
-  // factor to the square (the polygon formula, form_factor.h, by the degree-5 rule on 64 parts).
-  // The refiner links the square's elements into clusters of facets by one vector estimate each, whose
-  // errors, each within the oracle's budget, add up over the square's elements with one sign on
-  // facets off the clusters' centres (9.8 % worst). The solids' shafts prove those links wholly
-  // visible, so the final gather expands them to the facets' leaves, with the exact kernel.
-  SceneBuilder b;
-  const int black = b.material("black", 0.0);
-  const std::vector<Triangle> square = rectangle({-0.5, 0.5, 1.8}, {1, 0, 0}, {0, -1, 0});  // facing −z
-  const double M = 100;
-  b.surface("square", black, square, M);
-  b.surface("sphere", black, test::icosphere({0, 0, 0}, 0.6, 3));
-  const Solution sol = solve_with(b.scene(), SolverMethod::Hierarchical);
-  double worst = 0;
-  int checked = 0;
-  for (std::size_t i = 0; i < sol.patches.size(); ++i) {
-    const Patch& P = sol.patches[i];
-    if (P.surface != 1) continue;
-    bool in_front = true;
-    for (const Triangle& t : square)
-      for (const Point3& q : t.v)
-        for (const Point3& p : P.triangle.v) in_front = in_front && dot(q - p, P.normal) > 0;
-    if (!in_front) continue;
-    const double exact = M * patch_mean_by_parts(P, [&](const Point3& x) {
-      return point_triangle_factor(x, P.normal, square[0]) + point_triangle_factor(x, P.normal, square[1]);
-    });
-    worst = std::max(worst, std::abs(sol.irradiance[i] / exact - 1));
-    ++checked;
-  }
-  EXPECT_GT(checked, 200);
-  // The cubature's tolerance (kRuleTolerance, 1e-5 of a row); measured 5.5e-9.
-  EXPECT_LT(worst, 1e-4);
-  // Nothing stands between the square and the sphere: no link took rays, and the statistic counts the
-  // element links the solids' shafts cleared (the occluder planes, past their 128 planes, clear none).
-  // Measured: 5 730 of the refinement's 5 828 element links.
-  EXPECT_EQ(sol.stats.link_rays, 0u);
-  EXPECT_GT(sol.stats.links_clear, 5000u);
-}
-
 // With rows scaled alone (closed leaves gather exactly a hemisphere) this lost 1.2 % of the power:
 // the links are not reciprocal, so what a leaf shoots was not what the others gathered of it.
 TEST(Hierarchical, TheClosureBalanceReportsWhatItLeft) {
@@ -798,170 +711,12 @@ TEST(Hierarchical, LinksGrowAboutLinearlyWithTriangles) {
   EXPECT_LT(ratio, 1.6 * patch_ratio);  // quadratic growth would be patch_ratio²
 }
 
-TEST(Hierarchical, FacetedClusterSendsTheAreaItShows) {
-  // A small black plate far from a convex faceted emitter (M = 1), along a diagonal, facing it: the
-  // plate gathers from the emitter's clusters, whose triangles lie in many planes. The exact mean
-  // irradiance is Σ over the facets of A_plate F(plate → facet) (a convex emitter hides nothing of
-  // itself; facets facing away give 0), computed pair by pair. Six projected-area bins alone overstate
-  // what a faceted sphere or a tilted cube shows along a diagonal.
-  const Point3 centre{0, 0, 0};
-  auto rotated_cube = [&] {
-    const double a = 0.5, b = 0.3;  // about z, then about x
-    std::vector<Triangle> cube = test::box({-0.5, -0.5, -0.5}, {0.5, 0.5, 0.5}, false);
-    for (Triangle& t : cube)
-      for (Point3& p : t.v) {
-        const double x = std::cos(a) * p.x - std::sin(a) * p.y, y = std::sin(a) * p.x + std::cos(a) * p.y;
-        p = {x, std::cos(b) * y - std::sin(b) * p.z, std::sin(b) * y + std::cos(b) * p.z};
-      }
-    return cube;
-  };
-  for (const auto& [name, emitter] : {std::pair{"icosphere", test::icosphere(centre, 0.5, 2)}, std::pair{"tilted cube", rotated_cube()}}) {
-    for (const Triangle& t : emitter) ASSERT_GT(dot(t.normal(), t.centroid() - centre), 0) << name << ": facets face out";
-    const Vector3 w = normalize(Vector3{1, 1, 1});
-    const Point3 at = centre + 20.0 * w;
-    const Vector3 u = normalize(cross(w, Vector3{0, 0, 1})), v = cross(u, w);  // (u, v, −w): faces the emitter
-    const std::vector<Triangle> plate = rectangle(at - 0.1 * u - 0.1 * v, 0.2 * u, 0.2 * v);
-    ASSERT_LT(dot(plate[0].normal(), w), -0.999);
-    SceneBuilder b;
-    const int black = b.material("black", 0.0);
-    b.surface("emitter", black, emitter, 1.0);
-    b.surface("plate", black, plate);
-    b.max_patch_area(1.0);  // the facets are the patches
-    const Solution sol = solve_with(b.scene(), SolverMethod::Hierarchical);
-    double exact = 0, plate_area = 0;
-    for (const Triangle& p : plate) {
-      plate_area += p.area();
-      for (const Triangle& f : emitter) exact += exchange_area(p, f);
-    }
-    exact /= plate_area;
-    // A cluster link's one-point estimate may err by (r_C + r_R)/d of its transfer (the oracle's bound,
-    // 5 % here); measured: 0.12 % for the sphere, 0.66 % for the cube. With the bins alone: +73 % and +57 %.
-    EXPECT_NEAR(surface_mean(sol, 1, sol.irradiance), exact, 1e-2 * exact) << name;
-  }
-}
-
-TEST(Hierarchical, LinksIntoAFacetedClusterMatchThePairwiseAnswer) {
-  // A black faceted sphere (1 280 triangles, each a patch) lit by a 1 m² square emitter (M = 1) 10 m
-  // away along a diagonal. The facets facing the emitter receive through links into clusters of
-  // facets whose normals all face it (one vector irradiance V per cluster, E = n · V per facet), not
-  // a link each. Exact per facet: Σ over the emitter's triangles of A F(facet → triangle) / A (a
-  // convex receiver hides nothing of itself; facets facing away receive 0).
-  const Point3 centre{0, 0, 0};
-  const std::vector<Triangle> sphere = test::icosphere(centre, 0.5, 3);
-  const Vector3 w = normalize(Vector3{1, 1, 1});
-  const Vector3 u = normalize(cross(w, Vector3{0, 0, 1})), v = cross(u, w);
-  const std::vector<Triangle> emitter = rectangle(centre + 10.0 * w - 0.5 * u - 0.5 * v, 0.5 * 2 * u, v);
-  ASSERT_LT(dot(emitter[0].normal(), w), -0.999);
-  SceneBuilder b;
-  const int black = b.material("black", 0.0);
-  b.surface("sphere", black, sphere);
-  b.surface("emitter", black, emitter, 1.0);
-  b.max_patch_area(1.0);  // the facets are the patches
-  for (const bool gather : {false, true}) {
-  Scene scene = b.scene();
-  scene.solver.leaf_gather = gather;
-  const Solution sol = solve_with(scene, SolverMethod::Hierarchical);
-  ASSERT_EQ(sol.patches.size(), sphere.size() + 2);
-  double power = 0, exact_power = 0, worst = 0, largest = 0;
-  int lit = 0;
-  for (std::size_t i = 0; i < sphere.size(); ++i) {
-    ASSERT_EQ(sol.patches[i].surface, 0);
-    double exact = 0;
-    for (const Triangle& t : emitter) exact += exchange_area(sol.patches[i].triangle, t);
-    exact /= sol.patches[i].area_m2;
-    lit += exact > 0;
-    largest = std::max(largest, exact);
-    worst = std::max(worst, std::abs(sol.irradiance[i] - exact));
-    power += sol.patches[i].area_m2 * sol.irradiance[i];
-    exact_power += sol.patches[i].area_m2 * exact;
-  }
-  if (!gather) {
-    // The refinement alone. Each lit facet needs a link of its own without links into clusters (1 295
-    // links, exact to 1e-9); with them 391, the power within 0.22 % and the worst facet within 1.2 %
-    // of the brightest (the oracle allows each link an error of 2.4e-4 here, 7 % of the brightest
-    // facet's irradiance).
-    EXPECT_LT(sol.stats.links, static_cast<std::size_t>(lit));
-    EXPECT_NEAR(power, exact_power, 5e-3 * exact_power);
-    EXPECT_LT(worst, 0.03 * largest);
-  } else {
-    // Nothing but the sphere itself stands near the links' shafts, so the solids' shafts prove the
-    // links into clusters wholly visible, and the final gather expands them to the facets with the
-    // exact kernel (ClusterLink::proven_visible). Measured: worst 3e-8 of the brightest, power 9e-10.
-    EXPECT_GT(sol.stats.hierarchical.leaf_links, static_cast<std::size_t>(lit));
-    EXPECT_NEAR(power, exact_power, 1e-6 * exact_power);
-    EXPECT_LT(worst, 1e-6 * largest);
-  }
-  // The energy certificate's escaped power comes through the transposed operator.
-  EXPECT_LT(std::abs(sol.stats.relative_imbalance), 1e-9);
-  }
-}
-
-TEST(Hierarchical, LitRoomWithFacetedSpheresAgreesWithDenseSolver) {
-  // The lit room of tools/sphere_room.py, smaller: two grey 320-facet spheres under a 1 m² panel,
-  // solved by both methods on the same facets. The spheres gather through links into clusters and
-  // send through cluster links; the dense solver's factors are exact pair by pair. Measured: room
-  // −0.09 %, panel −0.76 %, spheres −0.24 % and −0.31 %. With the clusters' six bins alone and no
-  // links into clusters the panel read −4.2 %.
-  SceneBuilder b;
-  const int grey = b.material("grey", 0.5);
-  const int black = b.material("black", 0.0);
-  b.surface("room", grey, box({0, 0, 0}, {4, 3, 3}, true));
-  b.surface("panel", black, rectangle({1.5, 1, 2.999}, {0, 1, 0}, {1, 0, 0}), 100.0);
-  b.surface("sphere 1", grey, test::icosphere({1.2, 1.5, 1.2}, 0.5, 2));
-  b.surface("sphere 2", grey, test::icosphere({2.9, 1.4, 1.4}, 0.45, 2));
-  b.max_patch_area(0.1);
-  const Solution dense = solve_with(b.scene(), SolverMethod::Dense);
-  const Solution hier = solve_with(b.scene(), SolverMethod::Hierarchical);
-  for (int s = 0; s < 4; ++s) {
-    const double d = surface_mean(dense, s, dense.irradiance), h = surface_mean(hier, s, hier.irradiance);
-    EXPECT_NEAR(h, d, 1.5e-2 * d) << "surface " << s;
-  }
-  // Patch by patch, on the patches both methods share (every facet; the room where the meshes meet):
-  // the spheres' facets within 0.3 % rms and 1.5 % worst (measured 0.23 % and 0.15 % rms, 0.66 % and
-  // 0.63 % worst). Without the departure of a source's radiosity from the linear field its links read
-  // (OracleValues::element_departure) and what a view gains or loses across the pair (turning_area),
-  // the worst facet errs by 10 % (0.76 % rms). The room's patches: 0.69 % rms
-  // and 3.05 % worst, in the corners next to a sphere (docs/BENCHMARKS.md, "Patch by patch").
-  std::map<std::array<double, 3>, double> dense_at;  // by the sum of a patch's corners
-  auto key = [](const Triangle& t) {
-    return std::array<double, 3>{t.v[0].x + t.v[1].x + t.v[2].x, t.v[0].y + t.v[1].y + t.v[2].y, t.v[0].z + t.v[1].z + t.v[2].z};
-  };
-  for (std::size_t i = 0; i < dense.patches.size(); ++i) dense_at[key(dense.patches[i].triangle)] = dense.irradiance[i];
-  std::array<double, 4> worst{}, squares{};
-  std::array<int, 4> shared{};
-  for (std::size_t i = 0; i < hier.patches.size(); ++i) {
-    const auto found = dense_at.find(key(hier.patches[i].triangle));
-    if (found == dense_at.end() || !(found->second > 0)) continue;
-    const int s = hier.patches[i].surface;
-    const double e = hier.irradiance[i] / found->second - 1;
-    worst[s] = std::max(worst[s], std::abs(e)), squares[s] += e * e, ++shared[s];
-  }
-  for (int s : {2, 3}) {
-    ASSERT_EQ(shared[s], 320);
-    EXPECT_LT(std::sqrt(squares[s] / shared[s]), 3e-3) << "sphere " << s - 1;
-    EXPECT_LT(worst[s], 1.5e-2) << "sphere " << s - 1;
-  }
-  ASSERT_GT(shared[0], 400);
-  EXPECT_LT(std::sqrt(squares[0] / shared[0]), 1e-2);
-  EXPECT_LT(worst[0], 4e-2);
-  // Reciprocity with occluders: the two directions of a hierarchical link take their visible
-  // fractions from different rays, so a small, partly hidden link may differ by most of its value
-  // (measured: 0.93) while the exchange-weighted mean stays small (0.56 %). The dense solver's
-  // factors are reciprocal to round-off after its balance, a symmetric scaling. (The convex case:
-  // LinksBetweenTheSameTwoElementsAreReciprocal.)
-  EXPECT_LT(dense.stats.max_reciprocity_error, 1e-9);
-  EXPECT_LT(dense.stats.mean_reciprocity_error, 1e-12);
-  EXPECT_GT(hier.stats.mean_reciprocity_error, 1e-4);
-  EXPECT_LT(hier.stats.mean_reciprocity_error, 0.02);
-  EXPECT_GT(hier.stats.max_reciprocity_error, 10 * hier.stats.mean_reciprocity_error);
-}
-
 TEST(Hierarchical, LinksBetweenTheSameTwoElementsAreReciprocal) {
   // Reciprocity, A_r F_rs = A_s F_sr, holds for the exact factors. In a convex room (a furnace: no
   // other surface) no ray is traced, and a link's factor is the exact kernel's mean over its receiver
   // (adaptive cubature near, the degree-5 rule far): the links in both directions between two
   // elements agree to the float coefficients' round-off (measured: max 1.1e-7, mean 2.0e-8). With
-  // occluders: LitRoomWithFacetedSpheresAgreesWithDenseSolver.
+  // occluders: LitRoomWithFacetedSpheresAgreesWithDenseSolver (faceted_spheres_test.cpp).
   SceneBuilder b;
   b.surface("room", b.material("grey", 0.5), box({0, 0, 0}, {4, 3, 2.5}, true), 1.0);
   b.max_patch_area(0.05);

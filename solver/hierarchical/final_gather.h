@@ -19,7 +19,7 @@
 // formed them (ClusterLink::proven_visible). Those carry a one-point or vector estimate whose errors,
 // each within the oracle's budget, add up with one sign over many sources: a square emitter's
 // elements lighting a faceted sphere through clusters erred by up to 9.8 % on facets the whole
-// emitter lights, 5e-9 expanded (tests/hierarchical_test.cpp; docs/BENCHMARKS.md for the lit sphere
+// emitter lights, 5e-9 expanded (tests/faceted_spheres_test.cpp; docs/BENCHMARKS.md for the lit sphere
 // room). Where their leaf links would pass the budget, they keep their estimates. Links found partly
 // hidden stay as they are. With `retrace` (the scene's solver.exact_visibility), every link is
 // expanded, those found hidden too (LinkSet::hidden_links), and each leaf link whose visibility is
