@@ -4,6 +4,7 @@
 #include <cmath>
 #include <vector>
 
+#include "mesh/convex2d.h"
 #include "mesh/polygon_boolean.h"
 
 namespace lambert {
@@ -68,10 +69,7 @@ double coplanar_shared_area(const Triangle& t, const Vector3& n, const Triangle&
     return loop;
   };
   double left = 0;
-  for (const Loop2d& loop : convex_difference(flat(t), std::vector<Loop2d>{flat(u)})) {
-    for (std::size_t k = 0; k < loop.size(); ++k)
-      left += 0.5 * (loop[k][0] * loop[(k + 1) % loop.size()][1] - loop[(k + 1) % loop.size()][0] * loop[k][1]);
-  }
+  for (const Loop2d& loop : convex_difference(flat(t), std::vector<Loop2d>{flat(u)})) left += signed_area(loop);
   return t.area() - left;
 }
 

@@ -16,25 +16,25 @@
 // refinement proved their shaft clear, or their rays were all unobstructed (the verdict the
 // refinement itself trusts), or the occluder planes separate nothing between the pair
 // (occluder_planes.h); links into clusters also where the refiner proved them wholly visible as it
-// formed them (ClusterLink::proven_visible). Those carry a one-point or vector estimate whose errors,
-// each within the oracle's budget, add up with one sign over many sources: a square emitter's
-// elements lighting a faceted sphere through clusters erred by up to 9.8 % on facets the whole
-// emitter lights, 5e-9 expanded (tests/faceted_spheres_test.cpp; docs/BENCHMARKS.md for the lit sphere
-// room). Where their leaf links would pass the budget, they keep their estimates. Links found partly
-// hidden stay as they are. With `retrace` (the scene's solver.exact_visibility), every link is
-// expanded, those found hidden too (LinkSet::hidden_links), and each leaf link whose visibility is
-// not proven is evaluated exactly, with no ray: the occluders in the shaft between the leaf and the
-// input triangle its source was cut from (ExactVisibility::shaft_occluders; none: wholly visible),
-// and at each node of the leaf's rule the factor they hide (their shadow on that triangle's plane,
-// ExactVisibility::Shadow). Links whose
-// pair's box holds too many occluders are crowded (mark_crowded_links): they stay as by default (the
-// partly hidden keep their rays' estimate, the hidden stay hidden, the unanimous are trusted), which
-// bounds the work where many occluders stand between many patches (a city block: 133 s, where
-// evaluating every link exactly takes more than 15 minutes). The raw closure error of the room with a
-// floating cube (18 176 patches): 2.1 % before the gather, 1.6 % after it by default (the partly
-// hidden links stay), 2e-6 with retrace, as in the room without the cube; the leaf's own 16 rays in
-// place of the exact evaluation leave 7e-4 (rays that agree by chance), and the leaf-wide rule in
-// place of leaf_rule's pieces 1.7e-4. Retrace costs about 1.6 × the time there.
+// formed them (ClusterLink::proven_visible). Those carry a one-point or vector estimate whose
+// errors, each within the oracle's budget, add up with one sign over many sources: a square
+// emitter's elements lighting a faceted sphere through clusters erred by up to 9.8 % on facets the
+// whole emitter lights, 5e-9 expanded (tests/faceted_spheres_test.cpp; docs/BENCHMARKS.md for the
+// lit sphere room). Where their leaf links would pass the budget, they keep their estimates. Links
+// found partly hidden stay as they are. With `retrace` (the scene's solver.exact_visibility), every
+// link is expanded, those found hidden too (LinkSet::hidden_links), and each leaf link whose
+// visibility is not proven is evaluated exactly, with no ray: the occluders in the shaft between
+// the leaf and the input triangle its source was cut from (ExactVisibility::shaft_occluders; none:
+// wholly visible), and at each node of the leaf's rule the factor they hide (their shadow on that
+// triangle's plane, ExactVisibility::Shadow). Links whose pair's box holds too many occluders are
+// crowded (mark_crowded_links): they stay as by default (the partly hidden keep their rays'
+// estimate, the hidden stay hidden, the unanimous are trusted), which bounds the work where many
+// occluders stand between many patches (a city block: 133 s, where evaluating every link exactly
+// takes more than 15 minutes). The raw closure error of the room with a floating cube (18 176
+// patches): 2.1 % before the gather, 1.6 % after it by default (the partly hidden links stay), 2e-6
+// with retrace, as in the room without the cube; the leaf's own 16 rays in place of the exact
+// evaluation leave 7e-4 (rays that agree by chance), and the leaf-wide rule in place of leaf_rule's
+// pieces 1.7e-4. Retrace costs about 1.6 × the time there.
 //
 // Memory and time grow with the leaf links, about 10 per expanded link in the rooms of
 // docs/BENCHMARKS.md; a scene whose leaf links would exceed the budget keeps its links.
