@@ -10,15 +10,24 @@
 
 namespace lambert::hierarchical {
 
-LeafGather::LeafGather(Hierarchy& h, const ExactVisibility& exact, const PlaneVerdicts& planes, std::span<const Triangle> inputs,
-           bool retrace, const AreaFactorOptions& near_field)
-    : h_(h), exact_(exact), planes_(planes), inputs_(inputs), retrace_(retrace), near_field_(near_field) {
+LeafGather::LeafGather(Hierarchy& h, const ExactVisibility& exact, const PlaneVerdicts& planes, const Visibility& vis,
+                       std::span<const Triangle> inputs, std::span<const Hemisphere> hemispheres, bool retrace,
+                       const AreaFactorOptions& near_field)
+    : h_(h), exact_(exact), planes_(planes), vis_(vis), inputs_(inputs), retrace_(retrace), near_field_(near_field) {
   const std::size_t E = h.elements.size();
   leaves_below_.assign(E, 0);
+  leaks_below_.assign(E, 0);
   for (std::size_t e = E; e-- > 0;) {  // children come after their parent
     const Element& el = h.elements[e];
-    if (el.leaf >= 0) leaves_below_[e] = 1;
-    if (el.parent >= 0) leaves_below_[el.parent] += leaves_below_[e];
+    if (el.leaf >= 0) {
+      leaves_below_[e] = 1;
+      const Hemisphere hemisphere = hemispheres[static_cast<std::size_t>(el.leaf)];
+      leaks_below_[e] = hemisphere == Hemisphere::Leaking || hemisphere == Hemisphere::Enclosed;
+    }
+    if (el.parent >= 0) {
+      leaves_below_[el.parent] += leaves_below_[e];
+      leaks_below_[el.parent] = leaks_below_[el.parent] || leaks_below_[e];
+    }
   }
   cluster_parent_.assign(h.clusters.size(), -1);
   cluster_of_root_.assign(E, -1);
@@ -33,18 +42,19 @@ LeafGather::LeafGather(Hierarchy& h, const ExactVisibility& exact, const PlaneVe
 void LeafGather::mark_cluster_links(bool proven) {
   cluster_link_expands_.assign(h_.cluster_links.size(), 0);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, h_.cluster_links.size(), 16), [&](const auto& range) {
-    for (std::size_t l = range.begin(); l != range.end(); ++l) cluster_link_expands_[l] = expands(h_.cluster_links[l], proven);
+    for (std::size_t l = range.begin(); l != range.end(); ++l) cluster_link_expands_[l] = expands(l, proven);
   });
 }
 
 bool LeafGather::fits(std::size_t budget) {
+  if (retrace_) mark_crowded_links();
   mark_cluster_links(true);
-  if (retrace_) {
-    mark_crowded_links();
-    for (std::size_t l = 0; l < h_.cluster_links.size(); ++l)
-      if (crowded_.cluster[l]) cluster_link_expands_[l] = 0;
-  }
   std::size_t n = count();
+  if (n > budget && partly_hidden_) {  // the links found partly hidden (and, by default, into clusters) stay
+    partly_hidden_ = false;
+    mark_cluster_links(true);
+    n = count();
+  }
   if (n > budget && !retrace_) {  // (with retrace every link into a cluster expands, proven or not)
     mark_cluster_links(false);
     n = count();
@@ -100,7 +110,7 @@ LeafGatherStats LeafGather::run(const SolveControl& control) {
     if (!cluster_link_expands_[l]) h_.cluster_links[kept++] = h_.cluster_links[l];
   h_.cluster_links.resize(kept);
   return stats.combine([](LeafGatherStats a, const LeafGatherStats& b) {
-    a.leaf_links += b.leaf_links, a.traced += b.traced, a.exact += b.exact;
+    a.leaf_links += b.leaf_links, a.traced += b.traced, a.exact += b.exact, a.rays += b.rays;
     return a;
   });
 }
@@ -139,7 +149,11 @@ std::span<const int> LeafGather::small_cluster(int c) const {
 std::size_t LeafGather::sources_of(const Link& l, std::size_t index, int receiver) const {
   const bool exact = retrace_ && !keeps_rays(index);
   if (!l.from_cluster)
-    return exact || l.visibility() == LinkVisibility::ShaftClear || rays_unanimous(l.visibility()) || clear(receiver, l.source) ? 1 : 0;
+    return exact || l.visibility() == LinkVisibility::ShaftClear || rays_unanimous(l.visibility()) ||
+                   (partly_hidden_ && l.visibility() == LinkVisibility::Unknown && !leaks_below_[receiver]) ||
+                   clear(receiver, l.source)
+               ? 1
+               : 0;
   const auto roots = small_cluster(l.source);
   if (roots.empty()) return 0;
   if (!exact)
@@ -196,19 +210,23 @@ void LeafGather::mark_crowded_links() {
     }
   });
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, h_.cluster_links.size(), 16), [&](const auto& range) {
-    for (std::size_t l = range.begin(); l != range.end(); ++l)
-      crowded_.cluster[l] = cluster_link_expands_[l] && crowded(h_.cluster_links[l]);
+    for (std::size_t l = range.begin(); l != range.end(); ++l) {
+      const ClusterLink& link = h_.cluster_links[l];
+      crowded_.cluster[l] = (!link.from_cluster || !small_cluster(link.source).empty()) && crowded(link);
+    }
   });
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, h_.hidden_cluster_links.size(), 16), [&](const auto& range) {
     for (std::size_t l = range.begin(); l != range.end(); ++l) crowded_.hidden_cluster[l] = crowded(h_.hidden_cluster_links[l]);
   });
 }
 
-bool LeafGather::expands(const ClusterLink& l, bool proven) const {
+bool LeafGather::expands(std::size_t index, bool proven) const {
+  const ClusterLink& l = h_.cluster_links[index];
   std::array<int, 1> element{l.source};
   const std::span<const int> sources = l.from_cluster ? small_cluster(l.source) : std::span<const int>(element);
   if (sources.empty()) return false;
-  if (retrace_ || (proven && l.proven_visible)) return true;
+  if (retrace_) return !crowded_.cluster[index] || partly_hidden_;
+  if (partly_hidden_ || (proven && l.proven_visible)) return true;
   const Cluster& R = h_.clusters[l.receiver];
   if (static_cast<std::size_t>(R.root_count) * sources.size() > kMaxCheckedPairs) return false;
   for (int k = R.first_root; k < R.first_root + R.root_count; ++k)
@@ -234,18 +252,19 @@ void LeafGather::gather_block(std::size_t r, std::vector<Link>& out, LeafGatherS
   const auto [first, end] = h_.root_block[r];
   // Expanded links into the clusters above this root: the same sources for all its leaves.
   std::vector<Entry> from_cluster_links;
-  auto add_sources = [&](const ClusterLink& link) {
+  // (traced: a crowded link with retrace, whose leaves take their own rays as by default)
+  auto add_sources = [&](const ClusterLink& link, bool traced) {
     const LinkVisibility verdict = link.proven_visible ? LinkVisibility::ShaftClear : LinkVisibility::Unknown;
-    if (!link.from_cluster) from_cluster_links.push_back({link.source, verdict});
+    if (!link.from_cluster) from_cluster_links.push_back({link.source, verdict, traced});
     for (int s : link.from_cluster ? small_cluster(link.source) : std::span<const int>{})
-      from_cluster_links.push_back({s, verdict});
+      from_cluster_links.push_back({s, verdict, traced});
   };
   for (int c = cluster_of_root_[first]; c >= 0; c = cluster_parent_[c]) {
     for (std::size_t l = h_.cluster_link_start[c]; l < h_.cluster_link_start[c + 1]; ++l)
-      if (cluster_link_expands_[l]) add_sources(h_.cluster_links[l]);
+      if (cluster_link_expands_[l]) add_sources(h_.cluster_links[l], retrace_ && crowded_.cluster[l]);
     if (retrace_ && clustered_hidden_)
       for (std::size_t l = h_.hidden_cluster_start[c]; l < h_.hidden_cluster_start[c + 1]; ++l)
-        if (!crowded_.hidden_cluster[l]) add_sources(h_.hidden_cluster_links[l]);
+        if (!crowded_.hidden_cluster[l]) add_sources(h_.hidden_cluster_links[l], false);
   }
   std::vector<Entry> entries;
   std::vector<Link> row;
@@ -256,7 +275,7 @@ void LeafGather::gather_block(std::size_t r, std::vector<Link>& out, LeafGatherS
       for (std::size_t l = h_.link_start[p]; l < h_.link_start[p + 1]; ++l) {
         const Link& link = h_.links[l];
         if (!expanded(link, l, p)) continue;
-        if (!link.from_cluster) entries.push_back({link.source, verdict_of(link, l)});
+        if (!link.from_cluster) entries.push_back({link.source, verdict_of(link, l), retrace_ && keeps_rays(l)});
         for (int s : link.from_cluster ? small_cluster(link.source) : std::span<const int>{})
           entries.push_back({s, LinkVisibility::Unknown});
       }

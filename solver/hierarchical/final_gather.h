@@ -20,27 +20,37 @@
 // errors, each within the oracle's budget, add up with one sign over many sources: a square
 // emitter's elements lighting a faceted sphere through clusters erred by up to 9.8 % on facets the
 // whole emitter lights, 5e-9 expanded (tests/faceted_spheres_test.cpp; docs/BENCHMARKS.md for the
-// lit sphere room). Where their leaf links would pass the budget, they keep their estimates. Links
-// found partly hidden stay as they are. With `retrace` (the scene's solver.exact_visibility), every
-// link is expanded, those found hidden too (LinkSet::hidden_links), and each leaf link whose
-// visibility is not proven is evaluated exactly, with no ray: the occluders in the shaft between
-// the leaf and the input triangle its source was cut from (ExactVisibility::shaft_occluders; none:
-// wholly visible), and at each node of the leaf's rule the factor they hide (their shadow on that
-// triangle's plane, ExactVisibility::Shadow). Links whose pair's box holds too many occluders are
-// crowded (mark_crowded_links): they stay as by default (the partly hidden keep their rays'
-// estimate, the hidden stay hidden, the unanimous are trusted), which bounds the work where many
-// occluders stand between many patches (a city block: 133 s, where evaluating every link exactly
-// takes more than 15 minutes). The raw closure error of the room with a floating cube (18 176
-// patches): 2.1 % before the gather, 1.6 % after it by default (the partly hidden links stay), 2e-6
-// with retrace, as in the room without the cube; the leaf's own 16 rays in place of the exact
-// evaluation leave 7e-4 (rays that agree by chance), and the leaf-wide rule in place of leaf_rule's
-// pieces 1.7e-4. Retrace costs about 1.6 × the time there.
+// lit sphere room). Where their leaf links would pass the budget, they keep their estimates.
+//
+// Links found partly hidden, and the other links into clusters from elements or small clusters (whose
+// rays were cast to the cluster as a whole), expand too, and each leaf link traces its own rays (16,
+// then 64 where they disagree): their rays gave every leaf below one visible fraction, where a leaf
+// in the corner of a wall sees past a sphere what the far half of its element does not. Each link's
+// error is within the budget, but the links of one row share the shadow and err alike: in the lit
+// sphere room, a corner leaf gathered 0.961 of its view, its 30 links from the far wall reading 47 %
+// visible where the leaf sees 100 % (tests/leaf_gather_test.cpp; docs/BENCHMARKS.md). Where their
+// leaf links would pass the budget, those links stay as they are, before the proven ones do; so do
+// those whose receiver holds a leaking or enclosed leaf (leaks_below_). With `retrace` (the scene's
+// solver.exact_visibility), every link is expanded, those found hidden too (LinkSet::hidden_links),
+// and each leaf link whose visibility is not proven is evaluated exactly, with no ray: the
+// occluders in the shaft between the leaf and the input triangle its source was cut from
+// (ExactVisibility::shaft_occluders; none: wholly visible), and at each node of the leaf's rule the
+// factor they hide (their shadow on that triangle's plane, ExactVisibility::Shadow). Links whose
+// pair's box holds too many occluders are crowded (mark_crowded_links): they are treated as by
+// default (the partly hidden take the leaves' own rays, the hidden stay hidden, the unanimous are
+// trusted), which bounds the work where many occluders stand between many patches (a city block:
+// 133 s, where evaluating every link exactly takes more than 15 minutes). The raw closure error of
+// the room with a floating cube (18 176 patches): 2.1 % before the gather, 1.6 % after it when the
+// partly hidden links stayed, 2e-6 with retrace, as in the room without the cube; the leaf's own 16
+// rays in place of the exact evaluation leave 7e-4 (rays that agree by chance), and the leaf-wide
+// rule in place of leaf_rule's pieces 1.7e-4. Retrace costs about 1.6 × the time there.
 //
 // Memory and time grow with the leaf links, about 10 per expanded link in the rooms of
 // docs/BENCHMARKS.md; a scene whose leaf links would exceed the budget keeps its links.
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <span>
 #include <utility>
 #include <vector>
@@ -49,6 +59,8 @@
 #include "solver/form_factor.h"
 #include "solver/hierarchical/hierarchy.h"
 #include "solver/hierarchical/plane_verdicts.h"
+#include "solver/visibility.h"
+#include "solver/visible_fraction.h"
 
 namespace lambert::hierarchical {
 
@@ -77,20 +89,25 @@ inline constexpr std::size_t kMaxCheckedPairs = 1 << 16;     // root pairs a lin
 
 struct LeafGatherStats {
   std::size_t leaf_links = 0;  // links formed at the leaves
-  std::size_t traced = 0;      // of which took the leaf's own rays (retrace)
+  std::size_t traced = 0;      // of which the leaf evaluated the visibility of: by its own rays, or exactly (retrace)
   std::size_t exact = 0;       // of which were partly visible, with the exact visible part (retrace)
+  std::uint64_t rays = 0;      // the leaves' own rays
 };
 
 
 class LeafGather {
  public:
   // inputs: the input triangles (Element::input), which ExactVisibility holds as its occluders.
-  LeafGather(Hierarchy& h, const ExactVisibility& exact, const PlaneVerdicts& planes, std::span<const Triangle> inputs,
-             bool retrace, const AreaFactorOptions& near_field);
+  // vis: the visibility scene of the refinement's rays, which the leaves' own rays take.
+  // hemispheres: each leaf's (the operator's, per patch).
+  LeafGather(Hierarchy& h, const ExactVisibility& exact, const PlaneVerdicts& planes, const Visibility& vis,
+             std::span<const Triangle> inputs, std::span<const Hemisphere> hemispheres, bool retrace,
+             const AreaFactorOptions& near_field);
 
   // Whether there are leaf links to form, at most `budget` of them; where there would be more, the
-  // links into clusters proven visible only as a whole keep their estimates, and then the hidden
-  // links from and into clusters are left out. Prepares run().
+  // links found partly hidden and the unproven links into clusters stay as they are, then the links
+  // into clusters proven visible only as a whole keep their estimates, and then the hidden links
+  // from and into clusters are left out. Prepares run().
   bool fits(std::size_t budget);
 
   // Replaces the links that expand by leaf links (see above); the others stay. The links that expand
@@ -104,6 +121,9 @@ class LeafGather {
   struct Entry {
     int source;
     LinkVisibility verdict;
+    // With retrace, a crowded link's: where its visibility is not proven, the leaf's own rays take it
+    // (as by default), not the exact evaluation.
+    bool traced = false;
   };
 
   // The number of leaf links the gather would form (an upper bound: some turn out 0).
@@ -115,9 +135,9 @@ class LeafGather {
   // How many element sources link l at `receiver` expands to (0: it stays as it is). Element links:
   // 1; links from small clusters: their roots. With retrace, all of those; by default only where the
   // visibility is certain for every leaf below (element links: its verdict, or the occluder planes;
-  // links from clusters, whose rays are cast to the cluster as a whole: the planes, root by root).
-  // Link l, h_.links[index] at `receiver`; with retrace, links whose shaft is crowded (keeps_rays)
-  // are treated as by default.
+  // links from clusters, whose rays are cast to the cluster as a whole: the planes, root by root),
+  // and element links found partly hidden (partly_hidden_). Link l, h_.links[index] at `receiver`;
+  // with retrace, links whose shaft is crowded (keeps_rays) are treated as by default.
   std::size_t sources_of(const Link& l, std::size_t index, int receiver) const;
   // The element sources of h_.hidden_links[index], which the refinement's rays found hidden: its
   // source, or the roots of a small cluster (links from larger ones are not kept:
@@ -148,10 +168,11 @@ class LeafGather {
   // others' visibility is proven). In a scene of at most kSmallScene occluders, none.
   void mark_crowded_links();
   std::size_t roots_of(const ClusterLink& l) const { return l.from_cluster ? small_cluster(l.source).size() : 1; }
-  // Whether link l into a cluster expands to the cluster's roots: with retrace, any from an element or
-  // a small cluster; by default where the visibility of every root pair is certain, by the occluder
+  // Whether link h_.cluster_links[index] into a cluster expands to the cluster's roots: with retrace
+  // or partly_hidden_, any from an element or a small cluster (with retrace, a crowded one only with
+  // partly_hidden_); otherwise where the visibility of every root pair is certain, by the occluder
   // planes root by root or, where `proven` is allowed, by the link's own proof (proven_visible).
-  bool expands(const ClusterLink& l, bool proven) const;
+  bool expands(std::size_t index, bool proven) const;
   // Marks the links into clusters that expand (cluster_link_expands_; see expands).
   void mark_cluster_links(bool proven);
   std::size_t cluster_leaves(int c) const;
@@ -213,6 +234,9 @@ class LeafGather {
   };
   // The visible part of every pending link of a leaf, exactly (leaf_visibility.cpp).
   void evaluate_pending(Pending& pending, std::vector<Link>& row, LeafGatherStats& stats) const;
+  // The same by the leaf's own rays to each source: without retrace, the links found partly hidden
+  // above the leaf and the unproven links into its clusters; with it, those of crowded links.
+  void trace_pending(Pending& pending, std::vector<Link>& row, LeafGatherStats& stats) const;
   // The pending links [first, last) (sorted by input triangle, root, source), whose sources lie in
   // `carrier`, past the occluders in the shaft between the leaf and the carrier.
   void evaluate_carrier(Pending& pending, std::vector<Link>& row, const Triangle& carrier, int level,
@@ -221,11 +245,22 @@ class LeafGather {
   Hierarchy& h_;
   const ExactVisibility& exact_;
   const PlaneVerdicts& planes_;
+  const Visibility& vis_;
   std::span<const Triangle> inputs_;
   bool retrace_;
+  // The links found partly hidden expand, and by default the unproven links into clusters, the leaves
+  // tracing their own rays (with retrace, only the crowded ones' leaves: the others are exact). See
+  // fits().
+  bool partly_hidden_ = true;
   bool clustered_hidden_ = true;  // the hidden links from and into clusters are expanded (fits())
   AreaFactorOptions near_field_;
   std::vector<std::size_t> leaves_below_;     // per element
+  // Per element: some leaf below is Leaking or Enclosed. Its links found partly hidden stay as they
+  // are: its gathered flux is spread over its open part (ElementForest::open_spread), and a leaking
+  // leaf's row is held at 1 only while its links gather a whole hemisphere (closure.h), conventions
+  // that its leaves' own rays would break (a panel 1 mm under a ceiling: 9.4e-5 of the power created
+  // in the gap, tests/hard_cases_test.cpp).
+  std::vector<char> leaks_below_;
   std::vector<int> cluster_parent_;           // per cluster, −1 for the top
   std::vector<int> cluster_of_root_;          // per element: the BVH leaf of a root, else −1
   std::vector<char> cluster_link_expands_;    // per cluster link

@@ -136,6 +136,7 @@ void LeafGather::gather_leaf(int e, const std::vector<Entry>& entries, std::vect
     LeafGatherStats attempt;
     row_entry.clear();
     form_links(e, entries, usable, near_F, nodes, weights, row, row_entry, attempt);
+    stats.rays += attempt.rays;  // traced in every attempt, the links counted in the last
     bool done = !retrace_ || near.empty() || level == kRuleLevels;
     if (!done) {
       double missed = 0;  // Σ v (F − F_rule) over the near sources

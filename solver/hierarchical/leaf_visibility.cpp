@@ -5,6 +5,7 @@
 #include <tuple>
 
 #include "solver/hierarchical/final_gather.h"
+#include "solver/visible_fraction.h"
 
 namespace lambert::hierarchical {
 
@@ -15,10 +16,12 @@ void LeafGather::form_links(int e, const std::vector<Entry>& entries, const std:
   const Element& L = h_.elements[e];
   const std::size_t size = node_span.size();
   thread_local std::vector<double> f;
-  thread_local Pending pending;
+  thread_local Pending pending, traced;  // evaluated exactly (retrace), and by the leaf's rays
   f.resize(size);
-  pending.leaf = &L, pending.nodes = node_span, pending.weights = weights;
-  pending.links.clear(), pending.f.clear();
+  for (Pending* p : {&pending, &traced}) {
+    p->leaf = &L, p->nodes = node_span, p->weights = weights;
+    p->links.clear(), p->f.clear();
+  }
   for (std::size_t k = 0; k < entries.size(); ++k) {
     if (!usable[k]) continue;
     const Entry& entry = entries[k];
@@ -37,7 +40,7 @@ void LeafGather::form_links(int e, const std::vector<Entry>& entries, const std:
     } else {
       point_triangle_factors(node_span, L.normal, S.tri, f);
       for (std::size_t q = 0; q < size; ++q) F += weights[q] * f[q];
-      if (!visible) {  // kept for the visibility pass, which needs the same factors
+      if (!visible && retrace_ && !entry.traced) {  // kept for the exact pass, which needs the same factors
         f_row = static_cast<int>(pending.f.size() / size);
         pending.f.insert(pending.f.end(), f.begin(), f.end());
       }
@@ -52,11 +55,38 @@ void LeafGather::form_links(int e, const std::vector<Entry>& entries, const std:
     link.set_visibility(proven    ? LinkVisibility::ShaftClear
                         : visible ? LinkVisibility::RaysUnanimous
                                   : LinkVisibility::Unknown);
-    if (!visible) pending.links.emplace_back(static_cast<int>(row.size()), f_row);
+    if (!visible) (retrace_ && !entry.traced ? pending : traced).links.emplace_back(static_cast<int>(row.size()), f_row);
     row.push_back(link);
     row_entry.push_back(static_cast<int>(k));
   }
   if (!pending.links.empty()) evaluate_pending(pending, row, stats);
+  if (!traced.links.empty()) trace_pending(traced, row, stats);
+}
+
+// The leaf's own rays to each pending link's source, as the refiner's (Refiner::resolve_pending): the
+// leaf's stratified samples paired with the source's, 16 before the first vote.
+void LeafGather::trace_pending(Pending& pending, std::vector<Link>& row, LeafGatherStats& stats) const {
+  thread_local std::vector<double> fraction;
+  fraction.resize(pending.links.size());
+  const Element& L = *pending.leaf;
+  Vector3 source_normal;  // of the sample just drawn (the weight follows the endpoints for each ray)
+  stats.rays += weighted_visible_fractions(
+      vis_, pending.links.size(),
+      [&](std::size_t l, int k) {
+        const Element& S = h_.elements[row[pending.links[l].first].source];
+        source_normal = S.normal;
+        return std::pair{vis_.lift(visibility_sample(L.tri, k), L.normal),
+                         vis_.lift(visibility_sample(S.tri, paired_sample(k)), S.normal)};
+      },
+      [&](std::size_t, const Point3& p, const Point3& q) { return link_weight(p, L.normal, q, source_normal); },
+      fraction, 16);
+  stats.traced += pending.links.size();
+  for (std::size_t l = 0; l < pending.links.size(); ++l) {
+    Link& link = row[pending.links[l].first];
+    if (fraction[l] == 1) link.set_visibility(LinkVisibility::RaysUnanimous);
+    for (float& c : link.coeff) c = static_cast<float>(c * fraction[l]);
+    if (!(fraction[l] > 0)) link.source = kReplaced;  // hidden: dropped below
+  }
 }
 
 // The visible part at the rule's nodes, exactly (no rays: rays that agree by chance kept the rows near

@@ -232,7 +232,7 @@ void HierarchicalOperator::gather_at_leaves(const SolveControl& control) {
   AreaFactorOptions near_field;  // as the refiner's
   near_field.rel_tolerance = std::max(near_field.rel_tolerance, 0.1 * accuracy);
   near_field.abs_tolerance = std::max(near_field.abs_tolerance, 1e-3 * accuracy);
-  LeafGather gather(h_, *shafts_, *planes_, inputs_, retrace, near_field);
+  LeafGather gather(h_, *shafts_, *planes_, *vis_, inputs_, hemisphere_, retrace, near_field);
   const std::size_t N = patches_.size();
   const std::size_t budget = std::min(std::max(kLeafLinksPerLink * h_.links.size(), kLeafLinksPerPatch * N), kMaxLeafLinks);
   if (!scene_.solver.leaf_gather || (retrace && !h_.hidden_complete) || !gather.fits(budget)) return;
@@ -241,6 +241,7 @@ void HierarchicalOperator::gather_at_leaves(const SolveControl& control) {
   own_.leaf_links = g.leaf_links;
   own_.leaf_links_traced = g.traced;
   own_.leaf_links_exact = g.exact;
+  own_link_rays_ += g.rays;
   own_.crowded_links = gather.crowded_links();
   h_.index_links(h_.elements.size(), h_.clusters);
   // Where the leaf links are a small share of the links, the last balance's scales and its stop are
