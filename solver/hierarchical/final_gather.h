@@ -30,16 +30,16 @@
 // sphere room, a corner leaf gathered 0.961 of its view, its 30 links from the far wall reading 47 %
 // visible where the leaf sees 100 % (tests/leaf_gather_test.cpp; docs/BENCHMARKS.md). Where their
 // leaf links would pass the budget, those links stay as they are, before the proven ones do; so do
-// those whose receiver holds a leaking or enclosed leaf (leaks_below_). With `retrace` (the scene's
-// solver.exact_visibility), every link is expanded, those found hidden too (LinkSet::hidden_links),
-// and each leaf link whose visibility is not proven is evaluated exactly, with no ray: the
-// occluders in the shaft between the leaf and the input triangle its source was cut from
-// (ExactVisibility::shaft_occluders; none: wholly visible), and at each node of the leaf's rule the
-// factor they hide (their shadow on that triangle's plane, ExactVisibility::Shadow). Links whose
-// pair's box holds too many occluders are crowded (mark_crowded_links): they are treated as by
-// default (the partly hidden take the leaves' own rays, the hidden stay hidden, the unanimous are
+// the element links whose receiver holds a leaking or enclosed leaf (leaks_below_). With `retrace`
+// (the scene's solver.exact_visibility), every link is expanded, those found hidden too
+// (LinkSet::hidden_links), and each leaf link whose visibility is not proven is evaluated exactly,
+// with no ray: the occluders in the shaft between the leaf and the input triangle its source was
+// cut from (ExactVisibility::shaft_occluders; none: wholly visible), and at each node of the leaf's
+// rule the factor they hide (their shadow on that triangle's plane, ExactVisibility::Shadow). Links
+// whose pair's box holds too many occluders are crowded (mark_crowded_links): they are treated as
+// by default (the partly hidden take the leaves' own rays, the hidden stay hidden, the unanimous are
 // trusted), which bounds the work where many occluders stand between many patches (a city block:
-// 133 s, where evaluating every link exactly takes more than 15 minutes). The raw closure error of
+// 185 s, where evaluating every link exactly takes more than 15 minutes). The raw closure error of
 // the room with a floating cube (18 176 patches): 2.1 % before the gather, 1.6 % after it when the
 // partly hidden links stayed, 2e-6 with retrace, as in the room without the cube; the leaf's own 16
 // rays in place of the exact evaluation leave 7e-4 (rays that agree by chance), and the leaf-wide
