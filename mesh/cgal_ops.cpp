@@ -649,7 +649,7 @@ std::pair<std::size_t, std::size_t> add_pieces(const Triangle& t, const std::arr
 
 }  // namespace
 
-ContactImprint imprint_contacts(const std::vector<TriangleMesh>& meshes, double tolerance) {
+ContactImprint imprint_contacts(const std::vector<TriangleMesh>& meshes, double tolerance, double near_gap) {
   ContactImprint out;
   out.meshes = meshes;
   for (const TriangleMesh& m : meshes) {
@@ -666,16 +666,24 @@ ContactImprint imprint_contacts(const std::vector<TriangleMesh>& meshes, double 
     }
   if (refs.size() < 2) return out;
   const double eps = tolerance * std::max(length(all.diagonal()), 1e-300);
+  const double reach = std::max(eps, near_gap);  // how far apart two triangles may be to cut each other
 
   using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, int>;
   std::vector<Box> boxes;
   for (int r = 0; r < static_cast<int>(refs.size()); ++r) {
     const Bounds3 b = bounds(meshes[refs[r].mesh].triangle(refs[r].triangle));
-    double lo[3] = {b.lo.x - eps, b.lo.y - eps, b.lo.z - eps}, hi[3] = {b.hi.x + eps, b.hi.y + eps, b.hi.z + eps};
+    double lo[3] = {b.lo.x - reach, b.lo.y - reach, b.lo.z - reach};
+    double hi[3] = {b.hi.x + reach, b.hi.y + reach, b.hi.z + reach};
     boxes.emplace_back(Box(lo, hi, r));
   }
   std::vector<std::vector<std::pair<Point3, Point3>>> cuts(refs.size());
   std::vector<std::vector<int>> facing(refs.size());  // coplanar triangles facing the other way
+  std::vector<std::vector<unsigned char>> outlines(meshes.size());  // flat_outline_edges, when first asked
+  auto outline_of = [&](const Ref& r) {
+    std::vector<unsigned char>& mask = outlines[r.mesh];
+    if (mask.empty()) mask = flat_outline_edges(meshes[r.mesh]);
+    return mask[r.triangle];
+  };
   auto consider = [&](int ti, int ui) {
     const Ref& rt = refs[ti];
     const Ref& ru = refs[ui];
@@ -705,6 +713,12 @@ ContactImprint imprint_contacts(const std::vector<TriangleMesh>& meshes, double 
       // Coplanar and facing the same way: if they overlap, both radiate from the same place.
       const double shared = coplanar_shared_area(t, n, u);
       if (shared > 1e-9 * t.area()) out.overlaps.push_back({rt.mesh, ru.mesh, shared});
+    } else if (near_gap > eps && lies_just_in_front(t, n, u, eps, near_gap)) {
+      // A face just in front of t (a panel mounted under a ceiling): t is cut along its outline, the
+      // edges as they are (add_pieces projects them onto t's plane).
+      const unsigned char outline = outline_of(ru);
+      for (int k = 0; k < 3; ++k)
+        if (outline & (1u << k)) cuts[ti].emplace_back(u.v[k], u.v[(k + 1) % 3]);
     }
   };
   CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), [&](const Box& a, const Box& b) {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <tuple>
 #include <vector>
 
 #include "mesh/convex2d.h"
@@ -71,6 +72,47 @@ double coplanar_shared_area(const Triangle& t, const Vector3& n, const Triangle&
   double left = 0;
   for (const Loop2d& loop : convex_difference(flat(t), std::vector<Loop2d>{flat(u)})) left += signed_area(loop);
   return t.area() - left;
+}
+
+std::vector<unsigned char> flat_outline_edges(const TriangleMesh& mesh) {
+  const std::vector<int> weld = weld_identical_positions(mesh.vertices);
+  struct Side { int a, b, triangle, k; };  // welded edge a < b, and where it lies
+  std::vector<Side> sides;
+  sides.reserve(3 * mesh.triangles.size());
+  for (int t = 0; t < static_cast<int>(mesh.triangles.size()); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const int a = weld[mesh.triangles[t][k]], b = weld[mesh.triangles[t][(k + 1) % 3]];
+      sides.push_back({std::min(a, b), std::max(a, b), t, k});
+    }
+  std::sort(sides.begin(), sides.end(), [](const Side& x, const Side& y) { return std::tie(x.a, x.b) < std::tie(y.a, y.b); });
+  std::vector<unsigned char> outline(mesh.triangles.size(), 0b111);
+  for (std::size_t i = 0, next; i < sides.size(); i = next) {
+    for (next = i + 1; next < sides.size() && sides[next].a == sides[i].a && sides[next].b == sides[i].b; ++next) {
+    }
+    // An edge inside a flat region: shared with a triangle in the same plane (normals within about
+    // 0.1°; a flat panel's triangles agree to rounding).
+    for (std::size_t x = i; x < next; ++x)
+      for (std::size_t y = i; y < next; ++y)
+        if (sides[x].triangle != sides[y].triangle &&
+            dot(mesh.triangle(sides[x].triangle).normal(), mesh.triangle(sides[y].triangle).normal()) > 1 - 1e-6)
+          outline[sides[x].triangle] &= static_cast<unsigned char>(~(1u << sides[x].k));
+  }
+  return outline;
+}
+
+bool lies_just_in_front(const Triangle& t, const Vector3& n, const Triangle& u, double eps, double gap) {
+  const double slab = std::min(gap, u.max_edge_length() / 20);
+  double highest = -1;
+  for (const Point3& p : u.v) {
+    const double h = dot(p - t.v[0], n);
+    if (h < -eps || h > slab) return false;
+    highest = std::max(highest, h);
+  }
+  if (highest <= eps) return false;
+  Triangle shadow;  // u projected onto t's plane, counter-clockwise about n as t is
+  for (int k = 0; k < 3; ++k) shadow.v[k] = u.v[k] - n * dot(u.v[k] - t.v[0], n);
+  if (dot(u.normal(), n) < 0) std::swap(shadow.v[1], shadow.v[2]);
+  return coplanar_shared_area(t, n, shadow) > 1e-3 * std::min(t.area(), u.area());
 }
 
 }  // namespace lambert

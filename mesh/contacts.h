@@ -3,6 +3,8 @@
 // own so that the CGAL unit that cuts the triangles stays small.
 #pragma once
 
+#include <vector>
+
 #include "mesh/geometry.h"
 
 namespace lambert {
@@ -17,5 +19,20 @@ bool contact_segment(const Triangle& t, const Vector3& n, const Triangle& u, dou
 // The area that triangle u covers of triangle t, the two coplanar (t's plane: through t.v[0], unit
 // normal n), exact up to the rounding of their corners into t's plane (convex_difference).
 double coplanar_shared_area(const Triangle& t, const Vector3& n, const Triangle& u);
+
+// Per triangle of `mesh`, bit k set where its edge v[k]→v[k+1] lies on the outline of a flat region
+// of the mesh: not shared with another of its triangles in the same plane (corners welded by position,
+// so faces that carry their own copies of shared corners still meet). A panel of two triangles has
+// four outline edges; its diagonal is not one.
+std::vector<unsigned char> flat_outline_edges(const TriangleMesh& mesh);
+
+// Whether u lies just in front of t, in the slab between t's plane and a height h above it (every
+// corner at a height in [−eps, h] along t's unit normal n, one above eps), h = min(gap, u's longest
+// edge / 20), and its shadow on t's plane covers more of t than rounding would (1e-3 of the smaller
+// area: not a face beside t, one step up). Light then reaches the part of t under u only through the
+// gap, so the shadow's edge there is as sharp as the gap is narrow against u: imprint_contacts cuts t
+// along u's outline, and no patch averages the lit side with the dark one. (A face small against its
+// gap casts no such shadow: light comes in from every side.)
+bool lies_just_in_front(const Triangle& t, const Vector3& n, const Triangle& u, double eps, double gap);
 
 }  // namespace lambert

@@ -8,7 +8,7 @@
 //   lambert_jobs_submitted_total, lambert_cache_hits_total   counters: this instance
 //   lambert_http_responses_total{code="200"}       counter: this instance's answers by status
 //   lambert_draining                               gauge: 1 after SIGTERM, while running solves end
-//   lambert_build_info{version="1.2.0"}            gauge: always 1
+//   lambert_build_info{version="1.3.0"}            gauge: always 1
 // The format's rules, as https://prometheus.io/docs/instrumenting/exposition_formats/ states them:
 // each family's # HELP and # TYPE lines come once, before its samples, and its samples are
 // together; histogram buckets are cumulative with an "le" label, end at le="+Inf", which equals

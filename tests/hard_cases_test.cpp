@@ -249,10 +249,10 @@ TEST(HardCases, FurnaceWithACrateStandingOnTheFloor) {
 
 TEST(HardCases, APanelJustUnderTheCeilingLosesNoLightIntoTheGap) {
   // A one-sided emitting panel 1 mm under the ceiling of a closed room, everything ρ = 0.5: the
-  // ceiling over the panel sees only the panel's back and is left out as enclosed, but the ceiling's
-  // input triangles (and so the hierarchical method's elements) span it and the open ceiling around
-  // it. Conservation over the patches reported: emitted = Σ (1 − ρ) E A + escaped. A coarse ceiling
-  // element that spreads what it gathers over its enclosed part too has that flux absorbed in the
+  // ceiling over the panel sees only the panel's back and is left out as enclosed (the ceiling is cut
+  // along the panel's outline, a face within the near gap; the pieces at the outline see out through
+  // the gap). Conservation over the patches reported: emitted = Σ (1 − ρ) E A + escaped. A ceiling
+  // element that spreads what it gathers over an enclosed part too has that flux absorbed in the
   // gap, in no reported patch (7.9e-4 of the power in the 22 000-patch furnished room of
   // docs/BENCHMARKS.md, every surface that much low). The second method: the dense solve's surface
   // means.
@@ -279,6 +279,37 @@ TEST(HardCases, APanelJustUnderTheCeilingLosesNoLightIntoTheGap) {
   // Within 1e-3: the two meshes differ (the hierarchical method's ceiling leaves the gap at other
   // patches), which moves the ceiling's mean by a few 1e-4; spreading over the gap takes 1.4e-3.
   for (int s = 0; s < 3; ++s) EXPECT_NEAR(means[1][s] / means[0][s] - 1, 0, 1e-3) << "surface " << s;
+}
+
+TEST(HardCases, APanelJustUnderTheCeilingCastsASharpShadowOnIt) {
+  // A black ceiling lit straight up (E0 = 1) under which hangs a black 1 × 1 panel, 1 mm below it:
+  // at normal incidence the gap lets no light in, so the ceiling receives E0 beside the panel and
+  // nothing over it. Its patches are cut along the panel's outline (a face within a twentieth of the
+  // patch size), so each is wholly lit or wholly dark, and reads E0 or 0; a patch across the outline
+  // would read the share of its samples that see past the panel. The lit area is the ceiling's less
+  // the panel's. Both methods.
+  for (SolverMethod method : {SolverMethod::Dense, SolverMethod::Hierarchical}) {
+    SceneBuilder b;
+    const int black = b.material("black", 0.0);
+    const int ceiling = 0;
+    b.surface("ceiling", black, rectangle({0, 0, 3}, {0, 4, 0}, {6, 0, 0}));  // faces down
+    b.surface("panel", black, rectangle({2.45, 1.53, 2.999}, {0, 1, 0}, {1, 0, 0}));
+    b.scene().lights.push_back(DirectionalLight{{0, 0, 1}, {1.0}, std::nullopt});
+    b.scene().light_pointers.push_back("/lights/0");
+    b.max_patch_area(0.1);  // patches of about 0.3 m: the panel's edges fall inside them
+    b.scene().solver.method = method;
+    const Solution sol = solve(b.scene());
+    const char* what = method == SolverMethod::Dense ? "dense" : "hierarchical";
+    EXPECT_GE(sol.stats.contact_triangles_cut, 1u) << what;
+    double lit_area = 0;
+    for (std::size_t i = 0; i < sol.patches.size(); ++i) {
+      if (sol.patches[i].surface != ceiling) continue;
+      const double E = sol.irradiance[i];
+      EXPECT_TRUE(std::abs(E - 1) < 1e-9 || std::abs(E) < 1e-9) << what << ": patch " << i << " reads " << E;
+      if (E > 0.5) lit_area += sol.patches[i].area_m2;
+    }
+    EXPECT_NEAR(lit_area, 24 - 1, 1e-9) << what;
+  }
 }
 
 TEST(HardCases, FurnaceWithACrateIsExactAtEveryScale) {

@@ -544,6 +544,24 @@ double mesh_area(const TriangleMesh& m) {
   return a;
 }
 
+// The area of `cut`'s pieces inside the rectangle [x0, x1] × [y0, y1] (in x and y), with a failure
+// for any piece that straddles its outline: each must lie wholly inside or wholly outside.
+double area_inside_rectangle(const TriangleMesh& cut, double x0, double x1, double y0, double y1) {
+  double inside_area = 0;
+  for (std::size_t t = 0; t < cut.triangles.size(); ++t) {
+    const Triangle tri = cut.triangle(t);
+    const Point3 g = tri.centroid();
+    const bool inside = g.x > x0 && g.x < x1 && g.y > y0 && g.y < y1;
+    for (const Point3& p : tri.v) {
+      const bool in_closed = p.x >= x0 - 1e-12 && p.x <= x1 + 1e-12 && p.y >= y0 - 1e-12 && p.y <= y1 + 1e-12;
+      const bool out_closed = p.x <= x0 + 1e-12 || p.x >= x1 - 1e-12 || p.y <= y0 + 1e-12 || p.y >= y1 - 1e-12;
+      EXPECT_TRUE(inside ? in_closed : out_closed) << "piece " << t << " straddles the rectangle's outline";
+    }
+    if (inside) inside_area += tri.area();
+  }
+  return inside_area;
+}
+
 TEST(ImprintContacts, FloorIsCutAlongTheFootprintOfABoxStandingOnIt) {
   // A 2 × 2 floor (two triangles) and the four walls of a 0.6 × 0.6 × 0.5 box standing on it,
   // off-centre so that its footprint crosses the floor's diagonal.
@@ -563,22 +581,49 @@ TEST(ImprintContacts, FloorIsCutAlongTheFootprintOfABoxStandingOnIt) {
   EXPECT_EQ(r.meshes[1].triangles.size(), walls.triangles.size());
   const TriangleMesh& cut = r.meshes[0];
   EXPECT_NEAR(mesh_area(cut), 4.0, 1e-12);  // nothing lost or doubled
-  // No piece straddles the footprint: each lies wholly inside or wholly outside it, and the pieces
-  // inside add up to the footprint's area. Pieces keep the floor's orientation (+z).
-  double inside_area = 0;
-  for (std::size_t t = 0; t < cut.triangles.size(); ++t) {
-    const Triangle tri = cut.triangle(t);
-    EXPECT_GT(tri.area_vector().z, 0);
-    const Point3 g = tri.centroid();
-    const bool inside = g.x > x0 && g.x < x1 && g.y > y0 && g.y < y1;
-    for (const Point3& p : tri.v) {
-      const bool in_closed = p.x >= x0 - 1e-12 && p.x <= x1 + 1e-12 && p.y >= y0 - 1e-12 && p.y <= y1 + 1e-12;
-      const bool out_closed = p.x <= x0 + 1e-12 || p.x >= x1 - 1e-12 || p.y <= y0 + 1e-12 || p.y >= y1 - 1e-12;
-      EXPECT_TRUE(inside ? in_closed : out_closed) << "piece " << t << " straddles the footprint";
+  // No piece straddles the footprint, and the pieces inside add up to the footprint's area. Pieces
+  // keep the floor's orientation (+z).
+  for (std::size_t t = 0; t < cut.triangles.size(); ++t) EXPECT_GT(cut.triangle(t).area_vector().z, 0);
+  EXPECT_NEAR(area_inside_rectangle(cut, x0, x1, y0, y1), (x1 - x0) * (y1 - y0), 1e-12);
+}
+
+TEST(ImprintContacts, AFaceJustInFrontCutsAlongItsOutline) {
+  // A 1 × 1 panel of two triangles 1 mm under a 6 × 4 ceiling, both facing down: within a 1 cm
+  // near gap the ceiling is cut along the panel's outline (its four outer edges, not its diagonal),
+  // and the pieces under it add up to the panel's area. The panel, behind which the ceiling lies, is
+  // not cut.
+  const TriangleMesh ceiling = quad_mesh({0, 0, 3}, {0, 4, 0}, {6, 0, 0});
+  const double x0 = 2.5, x1 = 3.5, y0 = 1.5, y1 = 2.5;
+  for (double gap : {0.001, 0.02}) {
+    const TriangleMesh panel = quad_mesh({x0, y0, 3 - gap}, {0, y1 - y0, 0}, {x1 - x0, 0, 0});
+    const ContactImprint r = imprint_contacts({ceiling, panel}, 1e-9, 0.01);
+    EXPECT_EQ(r.meshes[1].triangles.size(), 2u) << gap;
+    EXPECT_NEAR(mesh_area(r.meshes[0]), 24.0, 1e-12) << gap;
+    if (gap > 0.01) {  // beyond the near gap: nothing is cut
+      EXPECT_EQ(r.triangles_cut, 0u);
+      continue;
     }
-    if (inside) inside_area += tri.area();
+    EXPECT_EQ(r.triangles_cut, 2u);  // the ceiling's diagonal crosses the panel's centre
+    EXPECT_EQ(r.segments, 8u);       // each ceiling triangle: the two outline edges of each panel triangle
+    EXPECT_NEAR(area_inside_rectangle(r.meshes[0], x0, x1, y0, y1), 1.0, 1e-12);
+    for (const std::vector<char>& flags : r.on_opposite_face)
+      EXPECT_EQ(std::count(flags.begin(), flags.end(), 1), 0);  // nothing lies face to face
   }
-  EXPECT_NEAR(inside_area, (x1 - x0) * (y1 - y0), 1e-12);
+  // Without a near gap (the default) a face 1 mm away does not cut.
+  const TriangleMesh panel = quad_mesh({x0, y0, 2.999}, {0, y1 - y0, 0}, {x1 - x0, 0, 0});
+  EXPECT_EQ(imprint_contacts({ceiling, panel}).triangles_cut, 0u);
+  // Nor does a face small against its gap (a 1 cm tile 1 mm away: light comes in from every side).
+  const TriangleMesh tile = quad_mesh({3, 2, 2.999}, {0, 0.01, 0}, {0.01, 0, 0});
+  EXPECT_EQ(imprint_contacts({ceiling, tile}, 1e-9, 0.01).triangles_cut, 0u);
+}
+
+TEST(ImprintContacts, AFaceBesideOneStepUpDoesNotCut) {
+  // Two floor halves meeting at x = 1, the second 0.5 mm higher: it lies within the near gap in front
+  // of the first, but its outline only meets the first along their common edge, where a cut would
+  // leave slivers of rounding. Neither is cut.
+  const TriangleMesh low = quad_mesh({0, 0, 0}, {1, 0, 0}, {0, 1, 0});
+  const TriangleMesh high = quad_mesh({1, 0, 0.0005}, {1, 0, 0}, {0, 1, 0});
+  EXPECT_EQ(imprint_contacts({low, high}, 1e-9, 0.01).triangles_cut, 0u);
 }
 
 // Area of a mesh's triangles flagged (or not) as lying on an opposite-facing face.
