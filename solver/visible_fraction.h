@@ -35,6 +35,15 @@ inline Point3 visibility_sample(const Triangle& t, int k) {
 // cells that do not correspond.
 constexpr int paired_sample(int k) { return k < 4 ? (k + 1) % 4 : 4 + (37 * k + 11) % 60; }
 
+// Ray k between two surface elements (receiver r with unit normal nr, source s with ns): the
+// receiver's sample k and the source's paired_sample(k), each lifted off its surface (`vis`: a
+// Visibility, or anything with its lift).
+template <class Vis>
+std::pair<Point3, Point3> element_pair_ray(const Vis& vis, const Triangle& r, const Vector3& nr, const Triangle& s,
+                                           const Vector3& ns, int k) {
+  return {vis.lift(visibility_sample(r, k), nr), vis.lift(visibility_sample(s, paired_sample(k)), ns)};
+}
+
 // The differential form-factor kernel cos θ_p cos θ_q / r² (up to 1/π) between two oriented points
 // (p with unit normal np, q with nq); the weight of a visibility ray.
 inline double link_weight(const Point3& p, const Vector3& np, const Point3& q, const Vector3& nq) {

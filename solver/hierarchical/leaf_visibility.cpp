@@ -75,8 +75,7 @@ void LeafGather::trace_pending(Pending& pending, std::vector<Link>& row, LeafGat
       [&](std::size_t l, int k) {
         const Element& S = h_.elements[row[pending.links[l].first].source];
         source_normal = S.normal;
-        return std::pair{vis_.lift(visibility_sample(L.tri, k), L.normal),
-                         vis_.lift(visibility_sample(S.tri, paired_sample(k)), S.normal)};
+        return element_pair_ray(vis_, L.tri, L.normal, S.tri, S.normal, k);
       },
       [&](std::size_t, const Point3& p, const Point3& q) { return link_weight(p, L.normal, q, source_normal); },
       fraction, 16);

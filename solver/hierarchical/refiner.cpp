@@ -342,15 +342,14 @@ void Refiner::resolve_pending(LinkBatch& out, std::vector<std::pair<int, int>>& 
       [&](std::size_t l, int k) {
         const Link& link = out.pending[l];
         const Element& R = h_.elements[link.receiver];
-        const Point3 p = vis_.lift(visibility_sample(R.tri, k), R.normal);
         if (link.from_cluster) {
           const ClusterTree::ClusterSample S = cluster_sample(h_, h_.clusters[link.source], k);
           source_normal = S.normal;
-          return std::pair{p, vis_.lift(S.point, S.normal)};
+          return std::pair{vis_.lift(visibility_sample(R.tri, k), R.normal), vis_.lift(S.point, S.normal)};
         }
         const Element& S = h_.elements[link.source];
         source_normal = S.normal;
-        return std::pair{p, vis_.lift(visibility_sample(S.tri, paired_sample(k)), S.normal)};
+        return element_pair_ray(vis_, R.tri, R.normal, S.tri, S.normal, k);
       },
       [&](std::size_t l, const Point3& p, const Point3& q) {
         return link_weight(p, h_.elements[out.pending[l].receiver].normal, q, source_normal);
