@@ -1,12 +1,17 @@
 // Running the service: GET /v1/metrics read by the Prometheus project's own parser
 // (tests/metrics_check.py, python3-prometheus-client) and counted against the jobs the test made;
-// the structured log read back line by line as JSON; SIGTERM on the real `lambert serve`: running
+// the structured log read back line by line as JSON (a job's lines in order, even where a worker
+// claims it before its submission returns); SIGTERM on the real `lambert serve`: running
 // solves finish within --drain-s, and a solve still running after it goes back to the queue and is
 // solved after a restart (its energy balance closes, R5).
 #pragma GCC diagnostic ignored "-Wunused-function"  // the fixture's helpers this file does not use
 #include "tests/service_fixture.h"
 
+#include <fcntl.h>
+
+#include <condition_variable>
 #include <cstdio>
+#include <mutex>
 
 #include "tests/serve_process.h"
 
@@ -110,6 +115,83 @@ std::vector<std::string> job_states(const ServeProcess& server, const std::strin
   for (const json& line : server.log_lines())
     if (line.value("event", "") == "job" && line.value("id", "") == id) states.push_back(line.value("state", ""));
   return states;
+}
+
+// A store whose claims overtake its submissions: submit() returns only once a worker has claimed a
+// job (or after 20 s), so that the worker is ready to log "running" before the submitter has logged
+// "queued" (the order in which CI once saw a job's lines). Everything else goes to a FileJobStore;
+// idle workers ask every 5 ms.
+class ClaimsBeforeSubmitReturns final : public JobStore {
+ public:
+  SubmitOutcome submit(const std::string& scene_json, const std::string& cache_key, std::size_t queue_limit) override {
+    SubmitOutcome out = files_.submit(scene_json, cache_key, queue_limit);
+    std::unique_lock lock(mutex_);
+    claimed_cv_.wait_for(lock, 20s, [&] { return claimed_; });
+    return out;
+  }
+  std::optional<Claim> claim(const std::string& instance) override {
+    std::optional<Claim> c = files_.claim(instance);
+    if (c) {
+      std::lock_guard lock(mutex_);
+      claimed_ = true;
+      claimed_cv_.notify_all();
+    }
+    return c;
+  }
+  Renewal renew(const Claim& c, double progress) override { return files_.renew(c, progress); }
+  bool finish(const Claim& c, const JobOutcome& outcome) override { return files_.finish(c, outcome); }
+  void release(const Claim& c) override { files_.release(c); }
+  std::optional<JobStatus> status(const std::string& id) override { return files_.status(id); }
+  ResultLookup result(const std::string& id) override { return files_.result(id); }
+  CancelOutcome cancel_or_remove(const std::string& id) override { return files_.cancel_or_remove(id); }
+  std::shared_ptr<const std::string> cached_result(const std::string& key) override { return files_.cached_result(key); }
+  StoreCounts counts() override { return files_.counts(); }
+  void sweep_expired() override { files_.sweep_expired(); }
+  std::chrono::milliseconds renew_interval() const override { return files_.renew_interval(); }
+  std::chrono::milliseconds poll_interval() const override { return 5ms; }
+  std::string describe() const override { return "claims before submit returns"; }
+
+ private:
+  FileJobStore files_{FileJobStoreOptions{}};
+  std::mutex mutex_;
+  std::condition_variable claimed_cv_;
+  bool claimed_ = false;
+};
+
+TEST(Operability, AJobsQueuedLineComesBeforeItsRunningLineWhenAWorkerClaimsItAtOnce) {
+  // The service's log lines (stderr) go to a file for the test's length.
+  const TempDir dir;
+  const fs::path log = dir.path / "log.jsonl";
+  const int saved = ::dup(STDERR_FILENO);
+  const int file = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
+  ASSERT_GE(saved, 0);
+  ASSERT_GE(file, 0);
+  ::dup2(file, STDERR_FILENO);
+  ::close(file);
+  std::string id;
+  {
+    ServiceOptions options;
+    options.workers = 1;
+    JobService jobs(std::make_unique<ClaimsBeforeSubmitReturns>(), options.service({}));
+    const SubmitOutcome out = jobs.submit(point_scene(100).dump(), "");
+    if (const auto* status = std::get_if<JobStatus>(&out)) id = status->id;
+    for (int k = 0; k < 2000 && !id.empty(); ++k) {  // until it is done (at most 20 s)
+      const auto s = jobs.status(id);
+      if (s && s->state != JobState::Queued && s->state != JobState::Running) break;
+      std::this_thread::sleep_for(10ms);
+    }
+  }
+  ::dup2(saved, STDERR_FILENO);
+  ::close(saved);
+  ASSERT_FALSE(id.empty());
+  std::vector<std::string> states;
+  std::istringstream lines(read_text(log));
+  for (std::string line; std::getline(lines, line);) {
+    const json j = json::parse(line, nullptr, false);
+    if (!j.is_discarded() && j.value("event", "") == "job" && j.value("id", "") == id)
+      states.push_back(j.value("state", ""));
+  }
+  EXPECT_EQ(states, (std::vector<std::string>{"queued", "running", "done"}));
 }
 
 TEST(Operability, SigtermLetsARunningSolveFinishWithinTheDrainTime) {
