@@ -666,12 +666,15 @@ ContactImprint imprint_contacts(const std::vector<TriangleMesh>& meshes, double 
     }
   if (refs.size() < 2) return out;
   const double eps = tolerance * std::max(length(all.diagonal()), 1e-300);
-  const double reach = std::max(eps, near_gap);  // how far apart two triangles may be to cut each other
-
   using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, int>;
   std::vector<Box> boxes;
   for (int r = 0; r < static_cast<int>(refs.size()); ++r) {
-    const Bounds3 b = bounds(meshes[refs[r].mesh].triangle(refs[r].triangle));
+    const Triangle tri = meshes[refs[r].mesh].triangle(refs[r].triangle);
+    const Bounds3 b = bounds(tri);
+    // How far from it another triangle may lie and still be cut by it: a face just in front lies
+    // within its own slab (lies_just_in_front), so each box grows by its own triangle's, and a huge
+    // near_gap (patches as large as the input triangles) does not make every box meet every other.
+    const double reach = std::max(eps, near_slab(tri, near_gap));
     double lo[3] = {b.lo.x - reach, b.lo.y - reach, b.lo.z - reach};
     double hi[3] = {b.hi.x + reach, b.hi.y + reach, b.hi.z + reach};
     boxes.emplace_back(Box(lo, hi, r));

@@ -101,7 +101,7 @@ std::vector<unsigned char> flat_outline_edges(const TriangleMesh& mesh) {
 }
 
 bool lies_just_in_front(const Triangle& t, const Vector3& n, const Triangle& u, double eps, double gap) {
-  const double slab = std::min(gap, u.max_edge_length() / 20);
+  const double slab = near_slab(u, gap);
   double highest = -1;
   for (const Point3& p : u.v) {
     const double h = dot(p - t.v[0], n);

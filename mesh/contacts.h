@@ -3,6 +3,7 @@
 // own so that the CGAL unit that cuts the triangles stays small.
 #pragma once
 
+#include <algorithm>
 #include <vector>
 
 #include "mesh/geometry.h"
@@ -26,13 +27,17 @@ double coplanar_shared_area(const Triangle& t, const Vector3& n, const Triangle&
 // four outline edges; its diagonal is not one.
 std::vector<unsigned char> flat_outline_edges(const TriangleMesh& mesh);
 
+// How far in front of a surface face u may lie and still cut it along its outline: `gap`, and at
+// most a twentieth of u's longest edge.
+inline double near_slab(const Triangle& u, double gap) { return std::min(gap, u.max_edge_length() / 20); }
+
 // Whether u lies just in front of t, in the slab between t's plane and a height h above it (every
-// corner at a height in [−eps, h] along t's unit normal n, one above eps), h = min(gap, u's longest
-// edge / 20), and its shadow on t's plane covers more of t than rounding would (1e-3 of the smaller
-// area: not a face beside t, one step up). Light then reaches the part of t under u only through the
-// gap, so the shadow's edge there is as sharp as the gap is narrow against u: imprint_contacts cuts t
-// along u's outline, and no patch averages the lit side with the dark one. (A face small against its
-// gap casts no such shadow: light comes in from every side.)
+// corner at a height in [−eps, h] along t's unit normal n, one above eps), h = near_slab(u, gap),
+// and its shadow on t's plane covers more of t than rounding would (1e-3 of the smaller area: not a
+// face beside t, one step up). Light then reaches the part of t under u only through the gap, so
+// the shadow's edge there is as sharp as the gap is narrow against u: imprint_contacts cuts t along
+// u's outline, and no patch averages the lit side with the dark one. (A face small against its gap
+// casts no such shadow: light comes in from every side.)
 bool lies_just_in_front(const Triangle& t, const Vector3& n, const Triangle& u, double eps, double gap);
 
 }  // namespace lambert

@@ -84,8 +84,9 @@ struct ContactImprint {
 // keep the triangle's orientation and are not conforming with the neighbours (T-junctions are
 // harmless to radiosity patches). `tolerance` is relative to the scene's bounding-box diagonal.
 // Faces that lie in front of a triangle within `near_gap` (absolute) and within a twentieth of their
-// own size (a panel 1 mm under a ceiling) cut it along their outline too (near_face_outline,
-// mesh/contacts.h): the part in their shadow gets its own patches, as if they touched.
+// own size (a panel 1 mm under a ceiling) cut it along their outline too (lies_just_in_front and
+// flat_outline_edges, mesh/contacts.h): the part in their shadow gets its own patches, as if they
+// touched.
 ContactImprint imprint_contacts(const std::vector<TriangleMesh>& meshes, double tolerance = 1e-9,
                                 double near_gap = 0);
 
