@@ -354,30 +354,15 @@ MeshHealth check_mesh(const TriangleMesh& mesh) {
   }
 
   // Edge topology: every undirected edge with the directions in which its triangles traverse it.
-  struct EdgeUse {
-    int lo, hi;
-    bool forward;  // traversed lo -> hi
-    bool operator<(const EdgeUse& o) const { return std::tie(lo, hi) < std::tie(o.lo, o.hi); }
-  };
-  std::vector<EdgeUse> uses;
-  uses.reserve(3 * static_cast<std::size_t>(nt));
-  for (int t = 0; t < nt; ++t) {
-    if (!usable_edges[t]) continue;
-    for (int k = 0; k < 3; ++k) {
-      const int a = tri[t][k], b = tri[t][(k + 1) % 3];
-      uses.push_back({std::min(a, b), std::max(a, b), a < b});
-    }
-  }
-  std::sort(uses.begin(), uses.end());
-  for (std::size_t i = 0, j = 0; i < uses.size(); i = j) {
-    int forward = 0;
-    for (j = i; j < uses.size() && uses[j].lo == uses[i].lo && uses[j].hi == uses[i].hi; ++j)
-      forward += uses[j].forward;
-    const std::size_t count = j - i;
-    if (count == 1) ++health.boundary_edges;
-    if (count > 2) health.manifold = false;
-    if (count == 2 && forward != 1) health.consistently_oriented = false;
-  }
+  const std::vector<EdgeUse> uses = sorted_edge_uses(tri.size(), [&](std::size_t t) {
+    return usable_edges[t] ? tri[t] : std::array<int, 3>{-1, -1, -1};
+  });
+  for_each_edge(uses, [&](std::span<const EdgeUse> edge) {
+    const auto forward = std::count_if(edge.begin(), edge.end(), [](const EdgeUse& u) { return u.forward; });
+    if (edge.size() == 1) ++health.boundary_edges;
+    if (edge.size() > 2) health.manifold = false;
+    if (edge.size() == 2 && forward != 1) health.consistently_oriented = false;
+  });
 
   // Self-intersections: bounding-box broad phase, exact narrow phase; degenerate triangles are
   // skipped (they are reported above, and the predicates need proper triangles).

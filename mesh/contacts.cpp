@@ -76,27 +76,20 @@ double coplanar_shared_area(const Triangle& t, const Vector3& n, const Triangle&
 
 std::vector<unsigned char> flat_outline_edges(const TriangleMesh& mesh) {
   const std::vector<int> weld = weld_identical_positions(mesh.vertices);
-  struct Side { int a, b, triangle, k; };  // welded edge a < b, and where it lies
-  std::vector<Side> sides;
-  sides.reserve(3 * mesh.triangles.size());
-  for (int t = 0; t < static_cast<int>(mesh.triangles.size()); ++t)
-    for (int k = 0; k < 3; ++k) {
-      const int a = weld[mesh.triangles[t][k]], b = weld[mesh.triangles[t][(k + 1) % 3]];
-      sides.push_back({std::min(a, b), std::max(a, b), t, k});
-    }
-  std::sort(sides.begin(), sides.end(), [](const Side& x, const Side& y) { return std::tie(x.a, x.b) < std::tie(y.a, y.b); });
+  const std::vector<EdgeUse> uses = sorted_edge_uses(mesh.triangles.size(), [&](std::size_t t) {
+    const auto& c = mesh.triangles[t];
+    return std::array<int, 3>{weld[c[0]], weld[c[1]], weld[c[2]]};
+  });
   std::vector<unsigned char> outline(mesh.triangles.size(), 0b111);
-  for (std::size_t i = 0, next; i < sides.size(); i = next) {
-    for (next = i + 1; next < sides.size() && sides[next].a == sides[i].a && sides[next].b == sides[i].b; ++next) {
-    }
-    // An edge inside a flat region: shared with a triangle in the same plane (normals within about
-    // 0.1°; a flat panel's triangles agree to rounding).
-    for (std::size_t x = i; x < next; ++x)
-      for (std::size_t y = i; y < next; ++y)
-        if (sides[x].triangle != sides[y].triangle &&
-            dot(mesh.triangle(sides[x].triangle).normal(), mesh.triangle(sides[y].triangle).normal()) > 1 - 1e-6)
-          outline[sides[x].triangle] &= static_cast<unsigned char>(~(1u << sides[x].k));
-  }
+  // An edge inside a flat region: shared with a triangle in the same plane (normals within about
+  // 0.1°; a flat panel's triangles agree to rounding).
+  for_each_edge(uses, [&](std::span<const EdgeUse> edge) {
+    for (const EdgeUse& x : edge)
+      for (const EdgeUse& y : edge)
+        if (x.triangle != y.triangle &&
+            dot(mesh.triangle(x.triangle).normal(), mesh.triangle(y.triangle).normal()) > 1 - 1e-6)
+          outline[x.triangle] &= static_cast<unsigned char>(~(1u << x.k));
+  });
   return outline;
 }
 

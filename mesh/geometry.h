@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <span>
 #include <tuple>
 #include <utility>
 #include <vector>
@@ -177,6 +178,44 @@ inline std::vector<int> weld_identical_positions(const std::vector<Point3>& poin
   for (std::size_t k = 0; k < order.size(); ++k)
     weld[order[k]] = (k > 0 && key(order[k]) == key(order[k - 1])) ? weld[order[k - 1]] : order[k];
   return weld;
+}
+
+// One side of a triangle: side k runs from the triangle's corner k to corner k + 1, between the welded
+// vertices lo < hi, from lo to hi where `forward`.
+struct EdgeUse {
+  int lo, hi, triangle, k;
+  bool forward;
+};
+
+// Every side of every triangle, sorted by its ends and then its triangle, so that the uses of one edge
+// are adjacent. corners(t) gives triangle t's welded corners; a triangle with a corner below 0 (not
+// finite, or left out by the caller) has no sides listed.
+template <class Corners>
+std::vector<EdgeUse> sorted_edge_uses(std::size_t triangles, Corners corners) {
+  std::vector<EdgeUse> uses;
+  uses.reserve(3 * triangles);
+  for (std::size_t t = 0; t < triangles; ++t) {
+    const std::array<int, 3> c = corners(t);
+    if (c[0] < 0 || c[1] < 0 || c[2] < 0) continue;
+    for (int k = 0; k < 3; ++k) {
+      const int a = c[k], b = c[(k + 1) % 3];
+      uses.push_back({std::min(a, b), std::max(a, b), static_cast<int>(t), k, a < b});
+    }
+  }
+  std::sort(uses.begin(), uses.end(), [](const EdgeUse& x, const EdgeUse& y) {
+    return std::tie(x.lo, x.hi, x.triangle, x.k) < std::tie(y.lo, y.hi, y.triangle, y.k);
+  });
+  return uses;
+}
+
+// Calls f once per edge with the run of its uses (a span of sorted_edge_uses' result).
+template <class F>
+void for_each_edge(const std::vector<EdgeUse>& uses, F f) {
+  for (std::size_t i = 0, j; i < uses.size(); i = j) {
+    for (j = i + 1; j < uses.size() && uses[j].lo == uses[i].lo && uses[j].hi == uses[i].hi; ++j) {
+    }
+    f(std::span<const EdgeUse>(uses.data() + i, j - i));
+  }
 }
 
 // Axis-aligned bounding box, empty until a point is added.

@@ -55,40 +55,22 @@ Components components(const std::vector<Surface>& surfaces) {
     while (parent[x] != x) x = parent[x] = parent[parent[x]];
     return x;
   };
-  // Every edge of every triangle: its ends (welded positions, lower first), the triangle, and whether
-  // it runs from the lower end there; sorted so that the uses of one edge are adjacent.
-  struct EdgeUse {
-    std::pair<int, int> ends;
-    int triangle;
-    bool forward;
-  };
-  std::vector<EdgeUse> uses;
-  uses.reserve(3 * all.size());
-  for (int t = 0; t < static_cast<int>(all.size()); ++t)
-    for (int k = 0; k < 3; ++k) {
-      const int a = vertex[3 * t + k], b = vertex[3 * t + (k + 1) % 3];
-      uses.push_back({std::minmax(a, b), t, a < b});
-    }
-  std::sort(uses.begin(), uses.end(), [](const EdgeUse& x, const EdgeUse& y) {
-    return x.ends != y.ends ? x.ends < y.ends : x.triangle < y.triangle;
+  const std::vector<EdgeUse> uses = sorted_edge_uses(all.size(), [&](std::size_t t) {
+    return std::array<int, 3>{vertex[3 * t], vertex[3 * t + 1], vertex[3 * t + 2]};
   });
   // Triangles are joined across edges that exactly two of them share. An edge shared by more (a crate's
   // wall standing on a floor whose triangles meet below it, two cubes touching along an edge) joins
   // nothing: each component then sees its own uses of it below.
-  for (std::size_t i = 0, j; i < uses.size(); i = j) {
-    for (j = i + 1; j < uses.size() && uses[j].ends == uses[i].ends; ++j) {
-    }
-    if (j - i == 2) parent[root(uses[i + 1].triangle)] = root(uses[i].triangle);
-  }
+  for_each_edge(uses, [&](std::span<const EdgeUse> edge) {
+    if (edge.size() == 2) parent[root(edge[1].triangle)] = root(edge[0].triangle);
+  });
   // Per edge and component: one use is an edge of its boundary; two must run opposite ways; more are
   // inconsistent.
   std::vector<char> inconsistent(all.size(), 0);
   std::vector<std::pair<int, const EdgeUse*>> by_component;
-  for (std::size_t i = 0, j; i < uses.size(); i = j) {
-    for (j = i + 1; j < uses.size() && uses[j].ends == uses[i].ends; ++j) {
-    }
+  for_each_edge(uses, [&](std::span<const EdgeUse> edge) {
     by_component.clear();
-    for (std::size_t u = i; u < j; ++u) by_component.emplace_back(root(uses[u].triangle), &uses[u]);
+    for (const EdgeUse& u : edge) by_component.emplace_back(root(u.triangle), &u);
     std::sort(by_component.begin(), by_component.end(),
               [](const auto& x, const auto& y) { return x.first < y.first; });
     for (std::size_t u = 0, v; u < by_component.size(); u = v) {
@@ -96,12 +78,12 @@ Components components(const std::vector<Surface>& surfaces) {
       }
       const EdgeUse& first = *by_component[u].second;
       if (v - u == 1) {
-        out.boundary.push_back({first.triangle, first.ends.first, first.ends.second, first.forward});
+        out.boundary.push_back({first.triangle, first.lo, first.hi, first.forward});
       } else if (v - u > 2 || by_component[u + 1].second->forward == first.forward) {
         for (std::size_t w = u; w < v; ++w) inconsistent[by_component[w].second->triangle] = 1;
       }
     }
-  }
+  });
   out.component.resize(all.size());
   out.sums.resize(all.size());
   const Point3 o = out.origin = all.empty() ? Point3{} : all[0].v[0];
