@@ -12,8 +12,9 @@ namespace lambert::hierarchical {
 
 LeafGather::LeafGather(Hierarchy& h, const ExactVisibility& exact, const PlaneVerdicts& planes, const Visibility& vis,
                        std::span<const Triangle> inputs, std::span<const Hemisphere> hemispheres, bool retrace,
-                       const AreaFactorOptions& near_field)
-    : h_(h), exact_(exact), planes_(planes), vis_(vis), inputs_(inputs), retrace_(retrace), near_field_(near_field) {
+                       const AreaFactorOptions& near_field, OracleBudget oracle)
+    : h_(h), exact_(exact), planes_(planes), vis_(vis), inputs_(inputs), retrace_(retrace), near_field_(near_field),
+      oracle_(oracle) {
   const std::size_t E = h.elements.size();
   leaves_below_.assign(E, 0);
   leaks_below_.assign(E, 0);
@@ -126,6 +127,8 @@ std::size_t LeafGather::count() const {
           if (retrace_)
             for (std::size_t l = h_.hidden_start[e]; l < h_.hidden_start[e + 1]; ++l)
               sum += leaves_below_[e] * sources_of_hidden(l).size();
+          else if (own_hidden(static_cast<int>(e)))
+            sum += h_.hidden_start[e + 1] - h_.hidden_start[e];
         }
         return sum;
       },
@@ -245,26 +248,38 @@ std::size_t LeafGather::cluster_leaves(int c) const {
 bool LeafGather::expanded(const Link& l, std::size_t index, int receiver) const {
   if (sources_of(l, index, receiver) == 0) return false;
   if (h_.elements[receiver].leaf < 0 || l.from_cluster) return true;
-  return retrace_ && !keeps_rays(index) && l.visibility() != LinkVisibility::ShaftClear && !clear(receiver, l.source);
+  if (!retrace_) return own_exact(l, receiver);
+  return !keeps_rays(index) && l.visibility() != LinkVisibility::ShaftClear && !clear(receiver, l.source);
+}
+
+bool LeafGather::own_hidden(int e) const {
+  return !retrace_ && partly_hidden_ && !h_.hidden_start.empty() && h_.elements[e].leaf >= 0 && !leaks_below_[e];
+}
+
+bool LeafGather::own_exact(const Link& l, int receiver) const {
+  return !retrace_ && partly_hidden_ && !l.from_cluster && l.visibility() == LinkVisibility::Unknown &&
+         h_.elements[receiver].leaf >= 0 && !leaks_below_[receiver] &&
+         oracle_.element_B[static_cast<std::size_t>(l.source)] * l.mean_factor() > oracle_.epsilon &&
+         !clear(receiver, l.source);
 }
 
 void LeafGather::gather_block(std::size_t r, std::vector<Link>& out, LeafGatherStats& stats) const {
   const auto [first, end] = h_.root_block[r];
   // Expanded links into the clusters above this root: the same sources for all its leaves.
   std::vector<Entry> from_cluster_links;
-  // (traced: a crowded link with retrace, whose leaves take their own rays as by default)
-  auto add_sources = [&](const ClusterLink& link, bool traced) {
+  // (exact: with retrace, unless the link is crowded; its leaves then take their own rays as by default)
+  auto add_sources = [&](const ClusterLink& link, bool exact) {
     const LinkVisibility verdict = link.proven_visible ? LinkVisibility::ShaftClear : LinkVisibility::Unknown;
-    if (!link.from_cluster) from_cluster_links.push_back({link.source, verdict, traced});
+    if (!link.from_cluster) from_cluster_links.push_back({link.source, verdict, exact});
     for (int s : link.from_cluster ? small_cluster(link.source) : std::span<const int>{})
-      from_cluster_links.push_back({s, verdict, traced});
+      from_cluster_links.push_back({s, verdict, exact});
   };
   for (int c = cluster_of_root_[first]; c >= 0; c = cluster_parent_[c]) {
     for (std::size_t l = h_.cluster_link_start[c]; l < h_.cluster_link_start[c + 1]; ++l)
-      if (cluster_link_expands_[l]) add_sources(h_.cluster_links[l], retrace_ && crowded_.cluster[l]);
+      if (cluster_link_expands_[l]) add_sources(h_.cluster_links[l], retrace_ && !crowded_.cluster[l]);
     if (retrace_ && clustered_hidden_)
       for (std::size_t l = h_.hidden_cluster_start[c]; l < h_.hidden_cluster_start[c + 1]; ++l)
-        if (!crowded_.hidden_cluster[l]) add_sources(h_.hidden_cluster_links[l], false);
+        if (!crowded_.hidden_cluster[l]) add_sources(h_.hidden_cluster_links[l], true);
   }
   std::vector<Entry> entries;
   std::vector<Link> row;
@@ -275,13 +290,17 @@ void LeafGather::gather_block(std::size_t r, std::vector<Link>& out, LeafGatherS
       for (std::size_t l = h_.link_start[p]; l < h_.link_start[p + 1]; ++l) {
         const Link& link = h_.links[l];
         if (!expanded(link, l, p)) continue;
-        if (!link.from_cluster) entries.push_back({link.source, verdict_of(link, l), retrace_ && keeps_rays(l)});
+        if (!link.from_cluster)
+          entries.push_back({link.source, verdict_of(link, l), retrace_ ? !keeps_rays(l) : own_exact(link, p)});
         for (int s : link.from_cluster ? small_cluster(link.source) : std::span<const int>{})
-          entries.push_back({s, LinkVisibility::Unknown});
+          entries.push_back({s, LinkVisibility::Unknown, retrace_});
       }
       if (retrace_)
         for (std::size_t l = h_.hidden_start[p]; l < h_.hidden_start[p + 1]; ++l)
-          for (int s : sources_of_hidden(l)) entries.push_back({s, LinkVisibility::Unknown});
+          for (int s : sources_of_hidden(l)) entries.push_back({s, LinkVisibility::Unknown, true});
+      else if (p == e && own_hidden(e))
+        for (std::size_t l = h_.hidden_start[e]; l < h_.hidden_start[e + 1]; ++l)
+          entries.push_back({h_.hidden_links[l].source, LinkVisibility::Unknown, true, true});
     }
     row.clear();
     gather_leaf(e, entries, row, stats);

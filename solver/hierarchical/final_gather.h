@@ -68,6 +68,7 @@ inline constexpr double kLeafFarField = 4;        // the rule alone beyond this 
 inline constexpr int kMaxCuttingPlanes = 3;       // planes that divide a leaf's rule (LeafGather::leaf_pieces)
 inline constexpr double kRuleTolerance = 1e-5;    // of a row, from its near sources (LeafGather::gather_leaf)
 inline constexpr int kRuleLevels = 3;             // times gather_leaf may split the pieces near them
+inline constexpr int kFreshFrom = 16;            // samples the refiner's vote on a pair traced (sort_hidden_pairs)
 // With exact visibility, links near whose boxes lie more than kExactOccluders occluders, in a scene of
 // more than kSmallScene, keep their rays' estimate, as every link does by default
 // (LeafGather::mark_crowded_links): the exact gather projects each occluder at every node of every
@@ -95,14 +96,21 @@ struct LeafGatherStats {
 };
 
 
+// What the refinement's oracle weighed links with (refiner.h): the radiosity per element and the
+// budget ε per link.
+struct OracleBudget {
+  std::span<const double> element_B;
+  double epsilon = 0;
+};
+
 class LeafGather {
  public:
   // inputs: the input triangles (Element::input), which ExactVisibility holds as its occluders.
   // vis: the visibility scene of the refinement's rays, which the leaves' own rays take.
-  // hemispheres: each leaf's (the operator's, per patch).
+  // hemispheres: each leaf's (the operator's, per patch). oracle: which links are bright (own_exact).
   LeafGather(Hierarchy& h, const ExactVisibility& exact, const PlaneVerdicts& planes, const Visibility& vis,
              std::span<const Triangle> inputs, std::span<const Hemisphere> hemispheres, bool retrace,
-             const AreaFactorOptions& near_field);
+             const AreaFactorOptions& near_field, OracleBudget oracle);
 
   // Whether there are leaf links to form, at most `budget` of them; where there would be more, the
   // links found partly hidden and the unproven links into clusters stay as they are, then the links
@@ -121,9 +129,13 @@ class LeafGather {
   struct Entry {
     int source;
     LinkVisibility verdict;
-    // With retrace, a crowded link's: where its visibility is not proven, the leaf's own rays take it
-    // (as by default), not the exact evaluation.
-    bool traced = false;
+    // Where its visibility is not proven: evaluated exactly (evaluate_pending), or by the leaf's own
+    // rays (trace_pending). Exactly with retrace unless the link is crowded; by default, the leaf's
+    // own links found partly hidden (own_exact).
+    bool exact;
+    // By default, a bright pair of leaves that the refiner's rays found hidden (own_hidden): fresh
+    // rays first (sort_hidden_pairs), and exactly where they see any of it.
+    bool found_hidden = false;
   };
 
   // The number of leaf links the gather would form (an upper bound: some turn out 0).
@@ -179,8 +191,19 @@ class LeafGather {
 
   // Whether link l at `receiver` is replaced by leaf links: it expands, unless it is a leaf's own
   // element link, which is a leaf link already (the refiner gave it the exact mean over the leaf) —
-  // with retrace, one whose visibility is not proven is formed again, its visibility evaluated.
+  // with retrace, one whose visibility is not proven is formed again, its visibility evaluated; by
+  // default, one found partly hidden (own_exact).
   bool expanded(const Link& l, std::size_t index, int receiver) const;
+  // By default, whether leaf `receiver`'s own element link l, which rays found partly hidden, is
+  // formed again with its visible part evaluated exactly. The refiner keeps a link between two leaves
+  // whatever its error, since neither can be split. Where its transfer B_s F exceeds the oracle's
+  // budget ε, the rays' error may too: 16 to 64 rays per link read a floor leaf's links to a panel in
+  // a sphere's penumbra 3–11 % off each, all alike, since they share one shadow (docs/BENCHMARKS.md).
+  // Not where a leaf below leaks (leaks_below_).
+  bool own_exact(const Link& l, int receiver) const;
+  // By default, whether leaf e gathers the bright pairs that the refiner's rays found hidden
+  // (Refiner::keeps_bright_hidden): fresh rays, then the exact visible part (sort_hidden_pairs).
+  bool own_hidden(int e) const;
 
   // The leaf links of root block r, in element order, each leaf's sorted by source.
   void gather_block(std::size_t r, std::vector<Link>& out, LeafGatherStats& stats) const;
@@ -237,10 +260,18 @@ class LeafGather {
   // The same by the leaf's own rays to each source: without retrace, the links found partly hidden
   // above the leaf and the unproven links into its clusters; with it, those of crowded links.
   void trace_pending(Pending& pending, std::vector<Link>& row, LeafGatherStats& stats) const;
+  // Bright pairs of leaves that the refiner's first kFreshFrom rays found hidden (own_hidden): the
+  // pair's later samples, up to kMaxVisibilitySamples, each traced once. A pair none of whose rays
+  // arrive is dropped, as the refiner left it; the rest join `exact`, for evaluate_pending. Most such
+  // pairs are wholly hidden (a floor leaf in a sphere's umbra against the panel's leaves), and the
+  // exact pass would cost each about 40 µs.
+  void sort_hidden_pairs(const Pending& hidden, Pending& exact, std::vector<Link>& row, LeafGatherStats& stats) const;
   // The pending links [first, last) (sorted by input triangle, root, source), whose sources lie in
   // `carrier`, past the occluders in the shaft between the leaf and the carrier.
   void evaluate_carrier(Pending& pending, std::vector<Link>& row, const Triangle& carrier, int level,
                         std::size_t first, std::size_t last, LeafGatherStats& stats) const;
+  // Scales a link to the visible share v of its factor (dropped where 0; wholly visible where 1).
+  static void set_visible_share(Link& link, double v);
 
   Hierarchy& h_;
   const ExactVisibility& exact_;
@@ -254,6 +285,7 @@ class LeafGather {
   bool partly_hidden_ = true;
   bool clustered_hidden_ = true;  // the hidden links from and into clusters are expanded (fits())
   AreaFactorOptions near_field_;
+  OracleBudget oracle_;
   std::vector<std::size_t> leaves_below_;     // per element
   // Per element: some leaf below is Leaking or Enclosed. Its links found partly hidden stay as they
   // are: its gathered flux is spread over its open part (ElementForest::open_spread), and a leaking

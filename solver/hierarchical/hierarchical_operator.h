@@ -61,13 +61,16 @@ class HierarchicalOperator final : public TransportOperator {
  private:
   // The loop's rooms (rounds.cpp).
   void prepare_rounds(const SpectralSystems& systems);
-  bool refine(const SpectralSystems& systems, bool first, std::vector<double>& leaf_B, const SolveControl& control);
+  bool refine(const SpectralSystems& systems, bool first, OracleRadiosity& oracle, const SolveControl& control);
   bool refine_for(const OracleRadiosity& oracle, bool first, const SolveControl& control);
+  // The oracle's budget ε per link (refiner.h): the accuracy times the mean radiosity, over kPowerShare.
+  double oracle_epsilon(const OracleRadiosity& oracle) const;
   void close(const SolveControl& control);  // the balance toward this round's target (closure.h)
   void refine_first(const Refiner& refiner, const SolveControl& control);
   bool recheck(const Refiner& refiner);
   void store_links(bool first);
-  void gather_at_leaves(const SolveControl& control);
+  // `oracle`: the radiosity the last round refined with, which says which leaf links are bright.
+  void gather_at_leaves(const OracleRadiosity& oracle, const SolveControl& control);
   std::vector<double> largest_radiosity(const SpectralSystems& systems) const;
 
   const Scene& scene_;

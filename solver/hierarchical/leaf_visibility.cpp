@@ -2,6 +2,7 @@
 // is not proven (LeafGather::form_links): see final_gather.h.
 #include <algorithm>
 #include <array>
+#include <cstdint>
 #include <tuple>
 
 #include "solver/hierarchical/final_gather.h"
@@ -16,9 +17,10 @@ void LeafGather::form_links(int e, const std::vector<Entry>& entries, const std:
   const Element& L = h_.elements[e];
   const std::size_t size = node_span.size();
   thread_local std::vector<double> f;
-  thread_local Pending pending, traced;  // evaluated exactly (retrace), and by the leaf's rays
+  // Evaluated exactly, by the leaf's rays, and bright pairs found hidden (sort_hidden_pairs).
+  thread_local Pending pending, traced, hidden;
   f.resize(size);
-  for (Pending* p : {&pending, &traced}) {
+  for (Pending* p : {&pending, &traced, &hidden}) {
     p->leaf = &L, p->nodes = node_span, p->weights = weights;
     p->links.clear(), p->f.clear();
   }
@@ -40,7 +42,7 @@ void LeafGather::form_links(int e, const std::vector<Entry>& entries, const std:
     } else {
       point_triangle_factors(node_span, L.normal, S.tri, f);
       for (std::size_t q = 0; q < size; ++q) F += weights[q] * f[q];
-      if (!visible && retrace_ && !entry.traced) {  // kept for the exact pass, which needs the same factors
+      if (!visible && entry.exact) {  // kept for the exact pass, which needs the same factors
         f_row = static_cast<int>(pending.f.size() / size);
         pending.f.insert(pending.f.end(), f.begin(), f.end());
       }
@@ -55,10 +57,14 @@ void LeafGather::form_links(int e, const std::vector<Entry>& entries, const std:
     link.set_visibility(proven    ? LinkVisibility::ShaftClear
                         : visible ? LinkVisibility::RaysUnanimous
                                   : LinkVisibility::Unknown);
-    if (!visible) (retrace_ && !entry.traced ? pending : traced).links.emplace_back(static_cast<int>(row.size()), f_row);
+    if (!visible) {
+      Pending& to = entry.found_hidden ? hidden : entry.exact ? pending : traced;
+      to.links.emplace_back(static_cast<int>(row.size()), f_row);
+    }
     row.push_back(link);
     row_entry.push_back(static_cast<int>(k));
   }
+  if (!hidden.links.empty()) sort_hidden_pairs(hidden, pending, row, stats);
   if (!pending.links.empty()) evaluate_pending(pending, row, stats);
   if (!traced.links.empty()) trace_pending(traced, row, stats);
 }
@@ -80,12 +86,34 @@ void LeafGather::trace_pending(Pending& pending, std::vector<Link>& row, LeafGat
       [&](std::size_t, const Point3& p, const Point3& q) { return link_weight(p, L.normal, q, source_normal); },
       fraction, 16);
   stats.traced += pending.links.size();
-  for (std::size_t l = 0; l < pending.links.size(); ++l) {
-    Link& link = row[pending.links[l].first];
-    if (fraction[l] == 1) link.set_visibility(LinkVisibility::RaysUnanimous);
-    for (float& c : link.coeff) c = static_cast<float>(c * fraction[l]);
-    if (!(fraction[l] > 0)) link.source = kReplaced;  // hidden: dropped below
+  for (std::size_t l = 0; l < pending.links.size(); ++l) set_visible_share(row[pending.links[l].first], fraction[l]);
+}
+
+void LeafGather::sort_hidden_pairs(const Pending& hidden, Pending& exact, std::vector<Link>& row,
+                                   LeafGatherStats& stats) const {
+  thread_local std::vector<Segment> segments;
+  thread_local std::vector<std::size_t> ray_pair;
+  thread_local std::vector<std::uint8_t> arrived;
+  thread_local std::vector<char> seen;
+  const Element& L = *hidden.leaf;
+  segments.clear(), ray_pair.clear();
+  for (std::size_t l = 0; l < hidden.links.size(); ++l) {
+    const Element& S = h_.elements[row[hidden.links[l].first].source];
+    for (int k = kFreshFrom; k < kMaxVisibilitySamples; ++k) {
+      const auto [p, q] = element_pair_ray(vis_, L.tri, L.normal, S.tri, S.normal, k);
+      if (link_weight(p, L.normal, q, S.normal) > 0) segments.push_back({p, q}), ray_pair.push_back(l);
+    }
   }
+  arrived.resize(segments.size());
+  vis_.estimate_visible(segments, arrived);
+  stats.rays += segments.size();
+  seen.assign(hidden.links.size(), 0);
+  for (std::size_t r = 0; r < segments.size(); ++r) seen[ray_pair[r]] |= arrived[r] != 0;
+  for (std::size_t l = 0; l < hidden.links.size(); ++l)
+    if (seen[l])
+      exact.links.push_back(hidden.links[l]);
+    else
+      row[hidden.links[l].first].source = kReplaced;  // hidden: dropped below
 }
 
 // The visible part at the rule's nodes, exactly (no rays: rays that agree by chance kept the rows near
@@ -165,10 +193,14 @@ void LeafGather::evaluate_carrier(Pending& pending, std::vector<Link>& row, cons
       v = whole > 0 ? std::clamp(seen / whole, 0.0, 1.0) : 0.0;
       ++stats.exact;
     }
-    if (v == 1) link.set_visibility(LinkVisibility::RaysUnanimous);
-    for (float& c : link.coeff) c = static_cast<float>(c * v);
-    if (!(v > 0)) link.source = kReplaced;  // hidden: dropped below
+    set_visible_share(link, v);
   }
+}
+
+void LeafGather::set_visible_share(Link& link, double v) {
+  if (v == 1) link.set_visibility(LinkVisibility::RaysUnanimous);
+  for (float& c : link.coeff) c = static_cast<float>(c * v);
+  if (!(v > 0)) link.source = kReplaced;  // hidden: dropped below
 }
 
 }  // namespace lambert::hierarchical

@@ -357,8 +357,10 @@ void Refiner::resolve_pending(LinkBatch& out, std::vector<std::pair<int, int>>& 
       fraction, 16, early);
   for (std::size_t l = 0; l < out.pending.size(); ++l) {
     if (!(fraction[l] > 0)) {
-      if (keeps_hidden(out.pending[l].from_cluster, out.pending[l].from_cluster, out.pending[l].source))
-        out.hidden.push_back(out.pending[l]);
+      const Link& hidden = out.pending[l];
+      if (keeps_hidden(hidden.from_cluster, hidden.from_cluster, hidden.source) ||
+          (factor_pending(hidden) && !early[l] && keeps_bright_hidden(bright_leaves(hidden))))
+        out.hidden.push_back(hidden);
       continue;
     }
     Link link = out.pending[l];
@@ -429,6 +431,17 @@ bool Refiner::keeps_hidden(bool clustered, bool from_cluster, int source) const 
   if (from_cluster && h_.clusters[source].root_count > kExpandedClusterRoots) return false;
   std::atomic<std::int64_t>& room = clustered ? hidden_room_.clustered : hidden_room_.elements;
   return room.load(std::memory_order_relaxed) > 0 && room.fetch_sub(1, std::memory_order_relaxed) > 0;
+}
+
+bool Refiner::bright_leaves(const Link& link) const {
+  const Element& R = h_.elements[link.receiver];
+  const Element& S = h_.elements[link.source];
+  return 2 * element_B_[link.source] * point_triangle_factor(R.centre, R.normal, S.tri) > epsilon_;
+}
+
+bool Refiner::keeps_bright_hidden(bool bright) const {
+  std::atomic<std::int64_t>& room = hidden_room_.bright_leaves;
+  return bright && room.load(std::memory_order_relaxed) > 0 && room.fetch_sub(1, std::memory_order_relaxed) > 0;
 }
 
 bool Refiner::recheck(const ClusterLink& link, LinkBatch& out) const {

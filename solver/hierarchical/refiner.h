@@ -45,6 +45,9 @@ using ExchangeCache = tbb::concurrent_unordered_map<std::uint64_t, double>;
 // block's overran kMaxLeafLinks with one room for both, and its gather then did not retrace).
 struct HiddenRoom {
   std::atomic<std::int64_t> elements{0}, clustered{0};
+  // By default: bright pairs of leaves found hidden (Refiner::keeps_bright_hidden), which the final
+  // gather traces again (LeafGather::sort_hidden_pairs).
+  std::atomic<std::int64_t> bright_leaves{0};
 };
 
 // The refinement of one (receiver, source) pair into links, with the BF oracle; `oracle`: its
@@ -102,6 +105,15 @@ class Refiner {
   // while there is room, if the gather can expand its source (an element, or a cluster of at most
   // kExpandedClusterRoots roots). `clustered`: from a cluster or into one.
   bool keeps_hidden(bool clustered, bool from_cluster, int source) const;
+
+  // Whether a pair of leaves that rays found hidden is kept for the final gather while there is room
+  // (HiddenRoom::bright_leaves): where its unoccluded transfer exceeds the budget ε (`bright`), the
+  // refiner cannot split it, and its 16 blocked rays leave room for a visible part that errs by more
+  // than ε (a wall patch that sees an emitter over a beam's top through a strip of a few degrees).
+  bool keeps_bright_hidden(bool bright) const;
+  // Whether two leaves' transfer exceeds ε by twice the point factor at the receiver's centroid (the
+  // estimate resolve_pending's early vote takes for pairs well apart).
+  bool bright_leaves(const Link& link) const;
 
   // Re-examines a kept link into a cluster: keeps it (false) or refines the pair again (true).
   bool recheck(const ClusterLink& link, LinkBatch& out) const;

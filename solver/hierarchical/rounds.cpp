@@ -68,10 +68,13 @@ void HierarchicalOperator::prepare_rounds(const SpectralSystems& systems) {
   }
   r.final_target = balance_target(kFinalBalance, rho_max);
   r.oracle_target = balance_target(kOracleBalance, rho_max);
-  // Hidden links are kept for the final gather's retrace only (solver.exact_visibility).
+  // Hidden links are kept for the final gather's retrace (solver.exact_visibility); by default, only
+  // bright pairs of leaves (Refiner::keeps_bright_hidden).
   if (scene_.solver.exact_visibility) {
     r.hidden_room.elements = static_cast<std::int64_t>(kMaxLeafLinks);
     r.hidden_room.clustered = static_cast<std::int64_t>(kMaxLeafLinks / 4);
+  } else {
+    r.hidden_room.bright_leaves = static_cast<std::int64_t>(kMaxLeafLinks / 16);  // 2 M: 56 MB of links
   }
 }
 
@@ -79,18 +82,18 @@ bool HierarchicalOperator::next_round(const SpectralSystems& systems, const Solv
   Rounds& r = rounds_;
   if (r.done || patches_.empty()) return false;
   if (!r.started) prepare_rounds(systems);
+  OracleRadiosity oracle;
   if (r.round < kRefineRounds) {
     const bool first = r.round == 0;
-    std::vector<double> leaf_B;
-    if (refine(systems, first, leaf_B, control)) {
+    if (refine(systems, first, oracle, control)) {
       ++own_.refine_rounds;
       r.final_balance = r.round == kRefineRounds - 1;
-      if (r.final_balance) gather_at_leaves(control);
+      if (r.final_balance) gather_at_leaves(oracle, control);
       // What each leaf sends: the radiosity of the last solve; before the first, the oracle's
       // estimate (M + ρ E_direct, and ρ times the mean interreflected irradiance), since a room lit
       // by an emitting panel has M + ρ E_direct = 0 on every reflector, whose columns would then be
       // left free in the first round, and the later rounds' balances would start without them.
-      r.sends = first ? std::move(leaf_B) : largest_radiosity(systems);
+      r.sends = first ? std::move(oracle.leaf_B) : largest_radiosity(systems);
       r.done = r.final_balance;
       ++r.round;
       return true;
@@ -99,30 +102,34 @@ bool HierarchicalOperator::next_round(const SpectralSystems& systems, const Solv
   // The rounds ended on one that changed no link: the gather comes after that round's balance and
   // solve, which are taken again, toward the final target.
   r.done = true;
-  if (!r.gathered) gather_at_leaves(control);
+  if (!r.gathered) {
+    if (oracle.leaf_B.empty()) oracle = oracle_radiosity(h_, systems, hemisphere_, r.shoots, false);
+    gather_at_leaves(oracle, control);
+  }
   r.sends = largest_radiosity(systems);
   r.final_balance = true;
   return true;
 }
 
 // One round of the refinement: all links (first) or the rechecks of the last round's. Returns whether
-// the links changed; `leaf_B` is the oracle's radiosity per leaf.
-bool HierarchicalOperator::refine(const SpectralSystems& systems, bool first, std::vector<double>& leaf_B,
+// the links changed; `oracle` is the radiosity it refined with.
+bool HierarchicalOperator::refine(const SpectralSystems& systems, bool first, OracleRadiosity& oracle,
                                   const SolveControl& control) {
-  OracleRadiosity oracle = oracle_radiosity(h_, systems, hemisphere_, rounds_.shoots, first);
-  const bool changed = refine_for(oracle, first, control);
-  leaf_B = std::move(oracle.leaf_B);
-  return changed;
+  oracle = oracle_radiosity(h_, systems, hemisphere_, rounds_.shoots, first);
+  return refine_for(oracle, first, control);
+}
+
+double HierarchicalOperator::oracle_epsilon(const OracleRadiosity& oracle) const {
+  return scene_.solver.accuracy * oracle.power / rounds_.total_area / kPowerShare;
 }
 
 bool HierarchicalOperator::refine_for(const OracleRadiosity& oracle, bool first, const SolveControl& control) {
   Rounds& r = rounds_;
   const OracleValues values = oracle_values(h_, oracle.leaf_B);
   const double accuracy = scene_.solver.accuracy;
-  const double epsilon = accuracy * oracle.power / r.total_area / kPowerShare;
   const double max_area = scene_.meshing.max_patch_area_m2.value_or(default_max_patch_area(scene_));
-  const Refiner refiner(h_, *vis_, *shafts_, *planes_, *solid_shafts_, values, epsilon, kUnitPatches * max_area, accuracy,
-                        r.exchange, r.hidden_room);
+  const Refiner refiner(h_, *vis_, *shafts_, *planes_, *solid_shafts_, values, oracle_epsilon(oracle),
+                        kUnitPatches * max_area, accuracy, r.exchange, r.hidden_room);
   found_.clear();
   bool changed = true;
   if (first) refine_first(refiner, control);
@@ -156,7 +163,7 @@ void HierarchicalOperator::build_geometric(const SolveControl& control) {
   r.final_target = r.oracle_target = balance_target(kFinalBalance, 0.9);
   refine_for(oracle, true, control);
   ++own_.refine_rounds;
-  gather_at_leaves(control);
+  gather_at_leaves(oracle, control);
   r.sends = oracle.leaf_B;
   r.final_balance = true;
   close(control);
@@ -205,7 +212,9 @@ void HierarchicalOperator::store_links(bool first) {
     merge_rechecked(h_.links, take_sorted(found_, &LinkBatch::links));
     merge_rechecked(h_.cluster_links, take_sorted(found_, &LinkBatch::cluster_links));
   }
-  if (rounds_.hidden_room.elements.load() <= 0) {  // none kept, or past kMaxLeafLinks: the gather will not retrace
+  const bool retrace = scene_.solver.exact_visibility;
+  if (retrace ? rounds_.hidden_room.elements.load() <= 0 : rounds_.hidden_room.bright_leaves.load() <= 0) {
+    // None kept, or past the room: the gather will not retrace (nor, by default, look at hidden leaves)
     h_.hidden_complete = false;
     release(h_.hidden_links);
     release(h_.hidden_cluster_links);
@@ -218,7 +227,7 @@ void HierarchicalOperator::store_links(bool first) {
 }
 
 // The final gather at the leaves (final_gather.h), once the links are final.
-void HierarchicalOperator::gather_at_leaves(const SolveControl& control) {
+void HierarchicalOperator::gather_at_leaves(const OracleRadiosity& oracle, const SolveControl& control) {
   Rounds& r = rounds_;
   r.gathered = true;
   // The refinement's final element links that the occluder planes or the solids' shafts cleared (no
@@ -232,10 +241,16 @@ void HierarchicalOperator::gather_at_leaves(const SolveControl& control) {
   AreaFactorOptions near_field;  // as the refiner's
   near_field.rel_tolerance = std::max(near_field.rel_tolerance, 0.1 * accuracy);
   near_field.abs_tolerance = std::max(near_field.abs_tolerance, 1e-3 * accuracy);
-  LeafGather gather(h_, *shafts_, *planes_, *vis_, inputs_, hemisphere_, retrace, near_field);
+  const OracleValues values = oracle_values(h_, oracle.leaf_B);
+  LeafGather gather(h_, *shafts_, *planes_, *vis_, inputs_, hemisphere_, retrace, near_field,
+                    {values.element_B, oracle_epsilon(oracle)});
   const std::size_t N = patches_.size();
   const std::size_t budget = std::min(std::max(kLeafLinksPerLink * h_.links.size(), kLeafLinksPerPatch * N), kMaxLeafLinks);
-  if (!scene_.solver.leaf_gather || (retrace && !h_.hidden_complete) || !gather.fits(budget)) return;
+  if (!scene_.solver.leaf_gather || (retrace && !h_.hidden_complete) || !gather.fits(budget)) {
+    release(h_.hidden_links);  // kept for the gather only (LeafGather::run frees them too)
+    release(h_.hidden_cluster_links);
+    return;
+  }
   const std::size_t refined_links = h_.links.size();
   const LeafGatherStats g = gather.run(control);
   own_.leaf_links = g.leaf_links;
