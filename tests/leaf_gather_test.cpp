@@ -54,6 +54,28 @@ ErrorOfE error_of_E(const Solution& sol, On on, const std::vector<Triangle>& emi
   return out;
 }
 
+// A black room with `emitter` (M = 1) and `occluder` in it, solved by the hierarchical method at
+// 0.03 m² patches, and the error of E over the room's patches that `on` selects.
+struct BlackRoom {
+  Solution solution;
+  ErrorOfE error;
+};
+template <class On>
+BlackRoom solve_black_room(const std::vector<Triangle>& room, const std::vector<Triangle>& emitter,
+                           const std::vector<Triangle>& occluder, On on) {
+  SceneBuilder b;
+  const int black = b.material("black", 0.0);
+  b.surface("room", black, room);
+  b.surface("emitter", black, emitter, 1.0);
+  b.surface("occluder", black, occluder);
+  b.max_patch_area(0.03);
+  BlackRoom out{solve_with(b.scene(), SolverMethod::Hierarchical), {}};
+  std::vector<Triangle> occluders = room;
+  occluders.insert(occluders.end(), occluder.begin(), occluder.end());
+  out.error = error_of_E(out.solution, on, emitter, occluders);
+  return out;
+}
+
 TEST(LeafGather, LinksFoundPartlyHiddenAreSharedByTheLeavesOwnRays) {
   // A black 6 × 4 × 3 m room whose wall x = 0 emits M = 1; a black beam along the room, from x = 1 to
   // x = 5, leaves a corridor 0.4 m wide beside the wall y = 4 and gaps above and below it. A patch of
@@ -65,8 +87,6 @@ TEST(LeafGather, LinksFoundPartlyHiddenAreSharedByTheLeavesOwnRays) {
   // links, whose 16 to 64 rays estimate their visible part. With the bright ones exact and the bright
   // pairs found hidden traced again (the test below), by 0.83 % and 3.6 %: the pairs whose fresh rays
   // all meet the beam are dropped, and some see the emitter through strips a few degrees wide.
-  SceneBuilder b;
-  const int black = b.material("black", 0.0);
   std::vector<Triangle> room = box({0, 0, 0}, {6, 4, 3}, true);
   std::vector<Triangle> emitter;
   for (auto it = room.begin(); it != room.end();) {  // the wall x = 0 on its own
@@ -79,14 +99,7 @@ TEST(LeafGather, LinksFoundPartlyHiddenAreSharedByTheLeavesOwnRays) {
   }
   ASSERT_EQ(emitter.size(), 2u);
   const std::vector<Triangle> beam = box({1, 0, 0.6}, {5, 3.6, 2.4}, false);
-  b.surface("room", black, room);
-  b.surface("emitting wall", black, emitter, 1.0);
-  b.surface("beam", black, beam);
-  b.max_patch_area(0.03);
-  const Solution sol = solve_with(b.scene(), SolverMethod::Hierarchical);
-  std::vector<Triangle> occluders = room;
-  occluders.insert(occluders.end(), beam.begin(), beam.end());
-  const ErrorOfE wall = error_of_E(sol, [](const Point3& c) { return c.x >= 6 - 1e-9; }, emitter, occluders);
+  const ErrorOfE wall = solve_black_room(room, emitter, beam, [](const Point3& c) { return c.x >= 6 - 1e-9; }).error;
   ASSERT_GT(wall.patches, 300);
   std::printf("wall x = 6, %d patches: mean E %.4g, error rms %.3g, worst %.3g of the mean\n", wall.patches, wall.mean,
               wall.rms, wall.worst);
@@ -103,19 +116,12 @@ TEST(LeafGather, ALeafsBrightLinksInAPenumbraAreEvaluatedExactly) {
   // transfer exceeds the refinement's budget are evaluated exactly (LeafGather::own_exact), and bright
   // pairs that the rays found hidden are checked by fresh rays (sort_hidden_pairs). The floor then
   // errs by 0.14 % of its mean E (rms) and 1.1 % (worst); with the rays' estimates, by 0.31 % and 1.8 %.
-  SceneBuilder b;
-  const int black = b.material("black", 0.0);
   const std::vector<Triangle> room = box({0, 0, 0}, {4, 4, 3}, true);
   const std::vector<Triangle> panel = rectangle({1.5, 1.5, 2.95}, {0, 1, 0}, {1, 0, 0});  // facing down
   const std::vector<Triangle> ball = test::icosphere({2, 2, 1.2}, 0.5, 2);
-  b.surface("room", black, room);
-  b.surface("panel", black, panel, 1.0);
-  b.surface("ball", black, ball);
-  b.max_patch_area(0.03);
-  const Solution sol = solve_with(b.scene(), SolverMethod::Hierarchical);
-  std::vector<Triangle> occluders = room;
-  occluders.insert(occluders.end(), ball.begin(), ball.end());
-  const ErrorOfE floor = error_of_E(sol, [](const Point3& c) { return c.z <= 1e-9; }, panel, occluders);
+  const BlackRoom solved = solve_black_room(room, panel, ball, [](const Point3& c) { return c.z <= 1e-9; });
+  const Solution& sol = solved.solution;
+  const ErrorOfE& floor = solved.error;
   ASSERT_GT(floor.patches, 400);
   std::printf("floor, %d patches: mean E %.4g, error rms %.3g, worst %.3g of the mean; %zu leaf links exact\n",
               floor.patches, floor.mean, floor.rms, floor.worst, sol.stats.hierarchical.leaf_links_exact);
