@@ -253,10 +253,10 @@ TEST(HardCases, FurnaceWithACrateStandingOnTheFloor) {
 // part too has that flux absorbed there, in no reported patch: 7.9e-4 of the power in the
 // 22 000-patch furnished room of docs/BENCHMARKS.md, every surface that much low). The second
 // method: the hierarchical surface means against the dense ones, to 1e-3 (the two meshes of the
-// ceiling differ). Returns the hierarchical solve's stats.
-SolveStats panel_under_the_ceiling(const std::vector<Triangle>& panel) {
+// ceiling differ). Returns each solve's stats: the dense one's, then the hierarchical one's.
+std::array<SolveStats, 2> panel_under_the_ceiling(const std::vector<Triangle>& panel) {
   std::array<std::array<double, 3>, 2> means{};
-  SolveStats stats;
+  std::array<SolveStats, 2> stats;
   for (SolverMethod method : {SolverMethod::Dense, SolverMethod::Hierarchical}) {
     SceneBuilder b;
     const int grey = b.material("grey", 0.5);
@@ -275,7 +275,7 @@ SolveStats panel_under_the_ceiling(const std::vector<Triangle>& panel) {
     const double emitted = sol.stats.emitted_W;
     EXPECT_NEAR((emitted - absorbed - sol.stats.escaped_W) / emitted, 0, 2e-5) << what;
     for (int s = 0; s < 3; ++s) means[method == SolverMethod::Dense ? 0 : 1][s] = surface_mean(sol, s, sol.irradiance);
-    stats = sol.stats;
+    stats[method == SolverMethod::Dense ? 0 : 1] = sol.stats;
   }
   for (int s = 0; s < 3; ++s) EXPECT_NEAR(means[1][s] / means[0][s] - 1, 0, 1e-3) << "surface " << s;
   return stats;
@@ -285,8 +285,9 @@ TEST(HardCases, APanelJustUnderTheCeilingLosesNoLightIntoTheGap) {
   // The panel 1 mm under the ceiling: the ceiling over it sees only the panel's back and is left out
   // as enclosed. The ceiling is cut along the panel's outline (a face within the near gap), and the
   // pieces at the outline see out through the gap.
-  const SolveStats stats = panel_under_the_ceiling(rectangle({2.5, 1.5, 2.999}, {0, 1, 0}, {1, 0, 0}));
-  EXPECT_GT(stats.enclosed_patches, 0u);
+  const auto stats = panel_under_the_ceiling(rectangle({2.5, 1.5, 2.999}, {0, 1, 0}, {1, 0, 0}));
+  EXPECT_GT(stats[0].enclosed_patches, 0u) << "dense";
+  EXPECT_GT(stats[1].enclosed_patches, 0u) << "hierarchical";
 }
 
 TEST(HardCases, APanelTiltedFromTheCeilingLosesNoLightIntoTheWedge) {
@@ -297,8 +298,9 @@ TEST(HardCases, APanelTiltedFromTheCeilingLosesNoLightIntoTheWedge) {
   // element spreads what it gathers over its open part (ElementForest::open_spread). Measured: the
   // means within 5.1e-4.
   const double drop = std::tan(2 * kPi / 180);  // over the panel's 1 m
-  const SolveStats stats = panel_under_the_ceiling(rectangle({2.5, 1.5, 3}, {0, 1, 0}, {1, 0, -drop}));
-  EXPECT_GT(stats.enclosed_patches, 0u);
+  const auto stats = panel_under_the_ceiling(rectangle({2.5, 1.5, 3}, {0, 1, 0}, {1, 0, -drop}));
+  EXPECT_GT(stats[0].enclosed_patches, 0u) << "dense";
+  EXPECT_GT(stats[1].enclosed_patches, 0u) << "hierarchical";
 }
 
 TEST(HardCases, APanelJustUnderTheCeilingCastsASharpShadowOnIt) {
