@@ -3,11 +3,15 @@
 // Closure and conservation. The links are estimates (rays, fits, cluster approximations) and not
 // reciprocal, so their row sums Σ_j F_ij (what leaf i gathers of a uniform radiosity) and their
 // area-weighted column sums Σ_i A_i F_ij / A_j (what the scene gathers of leaf j's power) both miss 1
-// in a closed hemisphere. Scaling rows alone makes a furnace exact but not the energy: the power shot
-// by j is received as its column sum. So rows and columns are scaled together, F' = D_r F D_c
-// (Sinkhorn–Knopp, alternating): a closed leaf's row sum becomes 1, and so does the column sum of a
-// closed root's emitting leaves together; an open leaf's are only kept from exceeding 1 (never more
-// than a hemisphere, never more than was shot).
+// in a closed hemisphere. Correcting rows alone makes a furnace exact but not the energy: the power
+// shot by j is received as its column sum. So rows and columns are corrected together (Sinkhorn–Knopp,
+// alternating): a closed leaf's row sum becomes 1, and so does the column sum of a closed root's
+// emitting leaves together; an open leaf's are only kept from exceeding 1 (never more than a
+// hemisphere, never more than was shot).
+//
+// A row's correction goes where its links may err: F'_ij = c_j F_ij (1 + λ_i g_j), with g_j =
+// 1 / max(B_j, B̄) (Balancer::source_weights in closure.cpp, which says why). A row whose excess
+// would turn a factor negative (λ_i g_j < −1) is scaled whole instead, F'_ij = c_j d_i F_ij.
 //
 // Columns are the less accurate side, and only the emitters' are held. A link reads its source at
 // one point, and in the transpose hands the source's leaves their shares by a linear field (links.h),
@@ -20,9 +24,10 @@
 // scene gathers all the power they emit; held leaf by leaf, they move a floor's light by up to 8 % in a
 // black room lit by its floor. Open leaves are only kept from giving away more than they send.
 //
-// Each sweep is one apply() and one apply_transpose(); plain sweeps shrink the error by about 0.65
-// each in the sphere furnaces, over-relaxed ones (optimal_overrelaxation, solver/linear_solve.h) by
-// about 0.3. The scales and the over-relaxation of the previous refinement round, whose links mostly
+// Each sweep is one pass of F over the links for the rows (R = F c and G = F (c ∘ g) together) and
+// two of Fᵀ for the columns (the part of each row scaled by d, and the part shifted by λ); plain
+// sweeps shrink the error by about 0.65 each in the sphere furnaces, over-relaxed ones
+// (optimal_overrelaxation, solver/linear_solve.h) by about 0.3. The scales and the over-relaxation of the previous refinement round, whose links mostly
 // remain, are the starting point. The sweeps stop once every held row and column is within `target`
 // of 1 (balance_target), or where a previous balance stalled short of a target at least as tight
 // (a stall on the way to the oracle's target does not stop the final balance): a lit room's sweeps

@@ -100,14 +100,7 @@ void HierarchicalOperator::apply(const std::vector<const double*>& V, const std:
   }
 }
 
-// F'ᵀ w = D_c Fᵀ D_r w.
-void HierarchicalOperator::apply_transpose(const double* w, double* out) const {
-  const std::size_t N = patches_.size();
-  std::vector<double> scaled(N);
-  for (std::size_t i = 0; i < N; ++i) scaled[i] = w[i] * h_.leaf_scale[i];
-  h_.apply_transpose(scaled.data(), out);
-  for (std::size_t j = 0; j < N; ++j) out[j] *= h_.source_scale[j];
-}
+void HierarchicalOperator::apply_transpose(const double* w, double* out) const { h_.apply_transpose(w, out, true); }
 
 std::unique_ptr<PointGather> HierarchicalOperator::point_gather(const std::vector<const double*>& B) const {
   return std::make_unique<HierarchicalPointGather>(h_, *planes_, *vis_, *shafts_, B, scene_.solver.accuracy);

@@ -20,10 +20,14 @@ namespace lambert::hierarchical {
 inline constexpr std::size_t kMaxBatch = 16;  // systems per gather pass (the GMRES batch size)
 
 struct Hierarchy : ElementForest, ClusterTree, LinkSet {
-  // Closure scaling (closure.h): the operator applied is F' = D_r F D_c, with D_r = leaf_scale on
-  // the gathered irradiance (rows) and D_c = source_scale on the radiosity shot (columns); per leaf.
+  // The closure (closure.h): the operator applied is F'_ij = c_j F_ij (d_i + λ_i g_j), per leaf: c =
+  // source_scale on the radiosity shot (columns); d = leaf_scale and λ = row_shift on the gathered
+  // irradiance (rows); g = source_weight, how much of its row's correction a link from leaf j takes
+  // per unit of its factor. With row_shift empty, F' = D_r F D_c.
   std::vector<double> leaf_scale;
   std::vector<double> source_scale;
+  std::vector<double> row_shift;
+  std::vector<double> source_weight;
 
   // Per-node values of one gather pass, K systems interleaved ([node][k]).
   struct Values {
@@ -63,13 +67,18 @@ struct Hierarchy : ElementForest, ClusterTree, LinkSet {
     return {source, children, corner_weights(point[0], point[1])};
   }
 
-  // FV[k] = F V[k] over the leaves for K ≤ kMaxBatch vectors; with `scaled`, F' = D_r F D_c.
+  // FV[k] = F V[k] over the leaves for K ≤ kMaxBatch vectors; with `scaled`, F' V[k].
   void apply(const std::vector<const double*>& V, const std::vector<double*>& FV, bool scaled = true) const;
-  // out = Fᵀ W over the leaves, for the unscaled operator.
-  void apply_transpose(const double* W, double* out) const;
+  // out = F'ᵀ W over the leaves (`scaled`), or Fᵀ W.
+  void apply_transpose(const double* W, double* out, bool scaled) const;
+  // out_j = Σ_i W_i F_ij (d_i + λ_i g_j): F'ᵀ W without the column scales, for the balance.
+  void transpose_rows_scaled(const double* W, double* out) const;
 
  private:
   using Field = std::array<double, 3 * kMaxBatch>;  // V, [axis][k]
+  void gather_pass(const std::vector<const double*>& V, const std::vector<double*>& FV, const double* column_scale,
+                   const double* row_scale) const;
+  void transpose_pass(const double* W, double* out) const;
   void gather_links(int e, const Values& v, double* h) const;
   void cluster_field(const Values& v, std::vector<double>& root_E) const;
   void field_down(int c, Field V, bool carried, const Values& v, double* root_E) const;

@@ -83,11 +83,34 @@ void Hierarchy::gather_links(int e, const Values& v, double* h) const {
   }
 }
 
-// FV[k] = F V[k] over the leaves: pull, gather, push (the parent's linear field evaluated at the
-// child's vertices, kChildVertex), the leaf's mean; with `scaled`, F' = D_r F D_c (balance()).
 void Hierarchy::apply(const std::vector<const double*>& V, const std::vector<double*>& FV, bool scaled) const {
+  if (!scaled) return gather_pass(V, FV, nullptr, nullptr);
+  if (row_shift.empty()) return gather_pass(V, FV, source_scale.data(), leaf_scale.data());
+  // F' V = d ∘ F (c ∘ V) + λ ∘ F (c ∘ g ∘ V): both in one pass over the links.
+  const std::size_t N = leaves.size();
+  for (std::size_t start = 0; start < V.size(); start += kMaxBatch / 2) {
+    const std::size_t K = std::min(V.size() - start, kMaxBatch / 2);
+    std::vector<std::vector<double>> in(2 * K, std::vector<double>(N)), out(2 * K, std::vector<double>(N));
+    std::vector<const double*> in_ptr;
+    std::vector<double*> out_ptr;
+    for (std::size_t k = 0; k < K; ++k)
+      for (std::size_t j = 0; j < N; ++j) {
+        in[k][j] = source_scale[j] * V[start + k][j];
+        in[K + k][j] = source_weight[j] * in[k][j];
+      }
+    for (std::size_t q = 0; q < 2 * K; ++q) in_ptr.push_back(in[q].data()), out_ptr.push_back(out[q].data());
+    gather_pass(in_ptr, out_ptr, nullptr, nullptr);
+    for (std::size_t k = 0; k < K; ++k)
+      for (std::size_t i = 0; i < N; ++i) FV[start + k][i] = leaf_scale[i] * out[k][i] + row_shift[i] * out[K + k][i];
+  }
+}
+
+// FV[k] = F (column_scale ∘ V[k]) over the leaves, times row_scale where given: pull, gather, push
+// (the parent's linear field evaluated at the child's vertices, kChildVertex), the leaf's mean.
+void Hierarchy::gather_pass(const std::vector<const double*>& V, const std::vector<double*>& FV,
+                            const double* column_scale, const double* row_scale) const {
   Values v;
-  pull(V, v, scaled ? source_scale.data() : nullptr);
+  pull(V, v, column_scale);
   const std::size_t K = V.size();
   std::vector<double> root_E;
   cluster_field(v, root_E);
@@ -119,7 +142,7 @@ void Hierarchy::apply(const std::vector<const double*>& V, const std::vector<dou
           for (std::size_t q = 0; q < 3 * K; ++q) h[q] = spread > 0 ? h[q] + spread * own[q] : 0.0;
         }
         if (el.leaf >= 0) {
-          const double s = (scaled ? leaf_scale[el.leaf] : 1.0) / 3;
+          const double s = (row_scale ? row_scale[el.leaf] : 1.0) / 3;
           for (std::size_t k = 0; k < K; ++k) FV[k][el.leaf] = s * (h[k] + h[K + k] + h[2 * K + k]);
         }
       }
@@ -190,10 +213,28 @@ Vector3 Hierarchy::field_up(int c, bool needed, const double* root_E_bar, double
   return needed ? V_bar : Vector3{};
 }
 
-// out = Fᵀ W over the leaves, for the unscaled operator: the adjoint of apply(), step by step in
-// reverse (leaf mean, push-down, gather, pull). Sources receive from receivers of other roots, so
-// each thread accumulates into its own copy of the element and cluster adjoints.
-void Hierarchy::apply_transpose(const double* W, double* out) const {
+void Hierarchy::apply_transpose(const double* W, double* out, bool scaled) const {
+  if (!scaled) return transpose_pass(W, out);
+  transpose_rows_scaled(W, out);
+  for (std::size_t j = 0; j < leaves.size(); ++j) out[j] *= source_scale[j];
+}
+
+void Hierarchy::transpose_rows_scaled(const double* W, double* out) const {
+  const std::size_t N = leaves.size();
+  std::vector<double> w(N);
+  for (std::size_t i = 0; i < N; ++i) w[i] = leaf_scale[i] * W[i];
+  transpose_pass(w.data(), out);
+  if (row_shift.empty()) return;
+  std::vector<double> shifted(N);
+  for (std::size_t i = 0; i < N; ++i) w[i] = row_shift[i] * W[i];
+  transpose_pass(w.data(), shifted.data());
+  for (std::size_t j = 0; j < N; ++j) out[j] += source_weight[j] * shifted[j];
+}
+
+// out = Fᵀ W over the leaves: the adjoint of gather_pass, step by step in reverse (leaf mean,
+// push-down, gather, pull). Sources receive from receivers of other roots, so each thread
+// accumulates into its own copy of the element and cluster adjoints.
+void Hierarchy::transpose_pass(const double* W, double* out) const {
   const std::size_t E = elements.size();
   std::vector<double> root_E_bar(roots.size(), 0.0);  // adjoint of cluster_field's root_E
   tbb::enumerable_thread_specific<std::vector<double>> adjoints(std::vector<double>(E + 6 * clusters.size(), 0.0));

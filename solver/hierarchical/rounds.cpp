@@ -265,6 +265,7 @@ void HierarchicalOperator::gather_at_leaves(const OracleRadiosity& oracle, const
   if (g.leaf_links > refined_links / 10) {
     h_.leaf_scale.assign(N, 1.0);
     h_.source_scale.assign(N, 1.0);
+    h_.row_shift.clear();
     r.balance = BalanceState{};
   }
 }
