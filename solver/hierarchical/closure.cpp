@@ -15,7 +15,7 @@ class Balancer {
  public:
   Balancer(Hierarchy& h, const std::vector<Hemisphere>& closed, const std::vector<double>& sends,
            const std::vector<char>& emits, const std::vector<Patch>& patches)
-      : h_(h), closed_(closed), sends_(sends), emits_(emits), patches_(patches), N_(h.leaves.size()), R_(N_), G_(N_),
+      : h_(h), closed_(closed), sends_(sends), emits_(emits), N_(h.leaves.size()), R_(N_), G_(N_),
         cg_(N_), areas_(N_), cols_(N_), full_row_(N_), root_of_(N_), root_sent_(h.roots.size()),
         root_gathered_(h.roots.size()) {
     for (std::size_t j = 0; j < N_; ++j) {
@@ -39,7 +39,6 @@ class Balancer {
   const std::vector<Hemisphere>& closed_;
   const std::vector<double>& sends_;
   const std::vector<char>& emits_;
-  const std::vector<Patch>& patches_;
   std::size_t N_;
   double floor_ = 0;       // the radiosity below which links take the correction alike (source_weights)
   double max_weight_ = 1;  // the largest g_j
@@ -59,7 +58,7 @@ class Balancer {
 // direct light on the spheres' tops by −0.11 % (docs/BENCHMARKS.md).
 void Balancer::source_weights() {
   double sent = 0, area = 0;
-  for (std::size_t j = 0; j < N_; ++j) sent += patches_[j].area_m2 * sends_[j], area += patches_[j].area_m2;
+  for (std::size_t j = 0; j < N_; ++j) sent += areas_[j] * sends_[j], area += areas_[j];
   floor_ = area > 0 ? sent / area : 0;
   h_.source_weight.assign(N_, 1.0);
   max_weight_ = 1;
@@ -97,7 +96,8 @@ double Balancer::rows(bool update, double omega) {
       h_.leaf_scale[i] = 1, h_.row_shift[i] = 0;
       continue;
     }
-    const double shift = G_[i] > 0 ? (1 - R_[i]) / G_[i] : -1e300;
+    // (G_i > 0 where R_i > 0: every g_j > 0.)
+    const double shift = (1 - R_[i]) / G_[i];
     if (shift * max_weight_ >= -1) {  // then no λ_i g_j < −1
       h_.leaf_scale[i] = 1;
       h_.row_shift[i] += omega * (shift - h_.row_shift[i]);
@@ -117,7 +117,7 @@ double Balancer::columns(bool update, double omega) {
   std::fill(root_gathered_.begin(), root_gathered_.end(), 0.0);
   for (std::size_t j = 0; j < N_; ++j) {
     if (closed_[j] != Hemisphere::Closed || !emits_[j]) continue;
-    root_sent_[root_of_[j]] += sends_[j] * patches_[j].area_m2;
+    root_sent_[root_of_[j]] += sends_[j] * areas_[j];
     root_gathered_[root_of_[j]] += sends_[j] * cols_[j] * h_.source_scale[j];
   }
   double error = 0;
@@ -134,7 +134,7 @@ double Balancer::columns(bool update, double omega) {
       error = std::max(error, std::abs(1 - C));
       if (update) c = relax(c, c / C, omega);
     } else {  // reflecting leaves: free, but an open one never gives away more than it sends
-      const double t = cols_[j] / patches_[j].area_m2;
+      const double t = cols_[j] / areas_[j];
       if (update) c = closed_[j] == Hemisphere::Open && t > 1 ? relax(c, 1 / t, omega) : 1.0;
     }
   }
