@@ -179,6 +179,15 @@ ClusterView cluster_view(const ClusterTree& h, int c, const Vector3& w, double s
     for (int a = 0; a < 3; ++a) view.weight[a] = std::abs(wa[a]);
     return view;
   }
+  // Every normal within θ of the cone's axis faces w where the axis is within π/2 − θ of it.
+  if (C.cone_sin < 1 && dot(C.cone_axis, w) > C.cone_sin) {
+    view.projected = dot(C.area_vector, w);
+    for (int a = 0; a < 3; ++a) {
+      view.bin[a] = static_cast<unsigned char>(kAxisBin + a);
+      view.weight[a] = wa[a];
+    }
+    return view;
+  }
   double lower = 0, upper = 0;
   int budget = kProjectionBudget;
   bound_projected_area(h, c, w, budget, lower, upper);

@@ -3,13 +3,16 @@
 // forest, so that a group of far triangles sends (and receives) through one link and neither N²
 // factors nor N² pairs are ever formed.
 //
-// A cluster sends its radiant intensity I(ω) = Σ_k (ω·e_k)⁺ Φ_k / π, with Φ_k = Σ_j B_j A_j (n_j·e_k)⁺
-// its radiosity-weighted projected area on the six axis directions, scaled so that a cluster of
-// uniform radiosity sends exactly the area it shows, Σ_j A_j (n_j·ω)⁺ (found through the clusters'
-// normal cones: the bins alone overstate it up to √3 times wherever normals are not in ω's octant).
+// A cluster sends its radiant intensity I(ω) = Σ_j B_j A_j (n_j·ω)⁺ / π from its radiosity-weighted
+// projected areas on the six axis directions, Φ_k = Σ_j B_j A_j (n_j·e_k)⁺: where every normal faces
+// ω, exactly as ω · Σ_j B_j A_j n_j (Φ_2a − Φ_2a+1 per axis); elsewhere as Σ_k (ω·e_k)⁺ Φ_k scaled
+// so that a cluster of uniform radiosity sends exactly the area it shows, Σ_j A_j (n_j·ω)⁺ (found
+// through the clusters' normal cones: the bins alone overstate it up to √3 times wherever normals
+// are not in ω's octant). See ClusterView.
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <vector>
 
 #include "solver/facet_bounds.h"
@@ -59,10 +62,37 @@ ClusterTree build_cluster_tree(const ElementForest& forest);
 // roots, the roots drawn spread over its BVH range.
 ClusterTree::ClusterSample cluster_sample(const ClusterTree& tree, const Cluster& C, int k);
 
-// How a link to cluster c from direction w (unit, from the cluster) reads its projected power Φ: the
-// three bins facing w, weighted so that a cluster of uniform radiosity B sends B × `projected` (the
-// area it shows, within ± `uncertainty`) rather than the bins' upper bound. Where the radiosity is
-// not uniform, the bins still tell the sides of the cluster apart.
+// What a link reads of its source cluster's six bins Φ_k (k = 2a for +e_a, 2a + 1 for −e_a), through
+// three bins: 0–5 a bin, kAxisBin + a the difference Φ_2a − Φ_2a+1 = Σ_j B_j A_j (n_j · e_a), the
+// a-th component of the radiosity-weighted area vector.
+inline constexpr unsigned char kAxisBin = 6;
+// The value of `bin` among the bins phi[k K + s] of system s (K systems interleaved).
+inline double bin_value(const double* phi, unsigned char bin, std::size_t K, std::size_t s) {
+  if (bin < kAxisBin) return phi[bin * K + s];
+  const int a = bin - kAxisBin;
+  return phi[2 * a * K + s] - phi[(2 * a + 1) * K + s];
+}
+// phi_bar[k] += value × ∂bin_value/∂Φ_k (one system): the adjoint of bin_value.
+inline void scatter_bin(double* phi_bar, unsigned char bin, double value) {
+  if (bin < kAxisBin) {
+    phi_bar[bin] += value;
+    return;
+  }
+  const int a = bin - kAxisBin;
+  phi_bar[2 * a] += value;
+  phi_bar[2 * a + 1] -= value;
+}
+
+// How a link to cluster c from direction w (unit, from the cluster) reads its projected power Φ.
+// Where every normal of the cluster faces w (its normal cone lies within π/2 of w), Σ_j B_j A_j (n_j ·
+// w)⁺ = w · Σ_j B_j A_j n_j exactly whatever the radiosity: the three axis bins, weighted by w's
+// components. (Like the bins, it is read along w alone; what the other directions of the pair
+// change is the oracle's `turning` term.) Otherwise the three bins facing w, weighted so that a
+// cluster of uniform radiosity B sends B × `projected` (the area it shows, within ± `uncertainty`)
+// rather than the bins' upper bound; where the radiosity is not uniform over the normals, that
+// weighting errs (a faceted sphere lit from above, B ∝ n_z, read 30° off its axis: 13 % low, so that
+// the lit sphere room's ceiling gathered 0.5 % too little of the spheres' tops). The bins are exact
+// for any radiosity where every normal is ± an axis.
 struct ClusterView {
   std::array<unsigned char, 3> bin{};
   std::array<double, 3> weight{};

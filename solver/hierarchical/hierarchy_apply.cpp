@@ -68,7 +68,7 @@ void Hierarchy::gather_links(int e, const Values& v, double* h) const {
       const double* phi = &v.Phi[link.source * 6 * K];
       for (std::size_t k = 0; k < K; ++k) {
         double c = 0;
-        for (int a = 0; a < 3; ++a) c += link.coeff[a] * phi[link.bin[a] * K + k];
+        for (int a = 0; a < 3; ++a) c += link.coeff[a] * bin_value(phi, link.bin[a], K, k);
         for (int n = 0; n < 3; ++n) h[n * K + k] += c;
       }
     }
@@ -165,7 +165,7 @@ void Hierarchy::field_down(int c, Field V, bool carried, const Values& v, double
       double psi = 0;
       if (link.from_cluster) {
         const double* phi = &v.Phi[link.source * 6 * K];
-        for (int a = 0; a < 3; ++a) psi += link.coeff[a] * phi[link.bin[a] * K + k];
+        for (int a = 0; a < 3; ++a) psi += link.coeff[a] * bin_value(phi, link.bin[a], K, k);
       } else {
         psi = link.coeff[0] * v.B[link.source * K + k];
       }
@@ -205,7 +205,7 @@ Vector3 Hierarchy::field_up(int c, bool needed, const double* root_E_bar, double
     const ClusterLink& link = cluster_links[l];
     const double psi_bar = link.toward[0] * V_bar.x + link.toward[1] * V_bar.y + link.toward[2] * V_bar.z;
     if (link.from_cluster) {
-      for (int a = 0; a < 3; ++a) Phi_bar[link.source * 6 + link.bin[a]] += link.coeff[a] * psi_bar;
+      for (int a = 0; a < 3; ++a) scatter_bin(&Phi_bar[link.source * 6], link.bin[a], link.coeff[a] * psi_bar);
     } else {
       B_bar[link.source] += link.coeff[0] * psi_bar;
     }
@@ -264,7 +264,7 @@ void Hierarchy::transpose_pass(const double* W, double* out) const {
             source_read(link.source, link.read_point()).scatter(read_bar, B_bar);
           } else {
             const double total = hs[0] + hs[1] + hs[2];
-            for (int k = 0; k < 3; ++k) Phi_bar[link.source * 6 + link.bin[k]] += link.coeff[k] * total;
+            for (int k = 0; k < 3; ++k) scatter_bin(&Phi_bar[link.source * 6], link.bin[k], link.coeff[k] * total);
           }
         }
         for (const LeafLink& link : leaf_links_of(e)) {

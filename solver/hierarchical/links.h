@@ -52,9 +52,9 @@ struct Link {
   int receiver = 0;          // element
   int source = 0;            // element or cluster
   bool from_cluster = false;
-  // Cluster source: the bins of Φ that the three weights apply to. Element source: bin[0], bin[1]
-  // are β1, β2 of the point y* where the link reads the source's radiosity (corner_weights), y* =
-  // ∫ f(y) y dA / ∫ f(y) dA with f(y) the factor from y to the receiver: exact for a radiosity linear
+  // Cluster source: the bins of Φ that the three weights apply to (bin_value, clusters.h). Element
+  // source: bin[0], bin[1] are β1, β2 of the point y* where the link reads the source's radiosity
+  // (corner_weights), y* = ∫ f(y) y dA / ∫ f(y) dA with f(y) the factor from y to the receiver: exact for a radiosity linear
   // over the source, and in the transpose the link's share of each of the source's leaves then has
   // the kernel's first moment. Every element link reads its source there: a read at the centroid
   // misses a far source's radiosity gradient times the kernel's shift, which biases whole rows (by

@@ -129,7 +129,7 @@ void HierarchicalPointGather::visit_cluster(const Receiver& r, const Point3& fro
       const std::size_t K = values_.K;
       for (int a = 0; a < 3; ++a) {
         const double coeff = view.weight[a] * weight * v / (kPi * d * d);
-        for (std::size_t k = 0; k < K; ++k) E[k] += coeff * values_.Phi[(c * 6 + view.bin[a]) * K + k];
+        for (std::size_t k = 0; k < K; ++k) E[k] += coeff * bin_value(&values_.Phi[c * 6 * K], view.bin[a], K, k);
       }
       return;
     }

@@ -322,7 +322,7 @@ void Refiner::resolve_pending(LinkBatch& out, std::vector<std::pair<int, int>>& 
     double transfer = 0;  // irradiance at the receiver per its area weight, unoccluded
     if (link.from_cluster) {
       const Cluster& C = h_.clusters[link.source];
-      for (int a = 0; a < 3; ++a) transfer += link.coeff[a] * C.projected[link.bin[a]];
+      for (int a = 0; a < 3; ++a) transfer += link.coeff[a] * bin_value(C.projected.data(), link.bin[a], 1, 0);
       transfer *= cluster_B_[link.source];
     } else if (!factor_pending(link)) {
       transfer = element_B_[link.source] * (link.coeff[0] + link.coeff[1] + link.coeff[2]) / 3;
