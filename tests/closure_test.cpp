@@ -52,7 +52,7 @@ double balanced_factor(const Hierarchy& h, const std::vector<std::vector<double>
 
 TEST(Closure, ClosesEveryRowAndTheEmittersColumnsWithoutANegativeFactor) {
   // Leaves 0 and 1 (one root) emit and send 100; the others send 1. Row 2 takes 1.1 from leaf 0
-  // alone, and leaf 1's column is short (0.3), so the emitters' joint column scale lifts row 2's
+  // alone, and leaf 1's column is short (about 0.3), so the emitters' joint column scale lifts row 2's
   // bright factor further: its excess is more than its links from dim sources carry, and shifting it
   // onto them alone would turn their factors negative. The other rows are random, 0.74 to 1.34.
   std::mt19937 rng(7);
@@ -108,8 +108,8 @@ TEST(Closure, ClosesEveryRowAndTheEmittersColumnsWithoutANegativeFactor) {
   const double shift = (1 - R) / G;
   const double max_weight = *std::max_element(h.source_weight.begin(), h.source_weight.end());
   EXPECT_LT(1 + shift * max_weight, 0.0);
-  // Other rows closed by the shift: a dim link takes more of the correction per unit of its factor
-  // than a bright one (g_j = 1/max(B_j, B̄)).
+  // The other rows are closed by the shift (λ ≠ 0), which gives a dim link more of the correction
+  // per unit of its factor than a bright one (g_j = 1/max(B_j, B̄)).
   int shifted = 0;
   for (int i = 0; i < kRows; ++i) shifted += h.row_shift[i] != 0;
   EXPECT_GE(shifted, kRows - 2);
