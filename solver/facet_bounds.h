@@ -57,13 +57,15 @@ struct FacetBounds {
   }
 };
 
-// Σ_a |w_a| projected[bin_a] over the bins facing direction w (unit): an upper bound of the area the
-// set shows in direction w, Σ A (n·w)⁺, exact only where every normal lies in w's octant or on an
-// axis. A faceted sphere seen along a diagonal shows 1.7 times its disk in the bins.
-inline double binned_area(const FacetBounds& F, const Vector3& w) {
-  return std::abs(w.x) * F.projected[w.x > 0 ? 0 : 1] + std::abs(w.y) * F.projected[w.y > 0 ? 2 : 3] +
-         std::abs(w.z) * F.projected[w.z > 0 ? 4 : 5];
+// Σ_a |w_a| bins[bin_a] over the bins facing direction w (unit).
+inline double binned(const Bins& bins, const Vector3& w) {
+  return std::abs(w.x) * bins[w.x > 0 ? 0 : 1] + std::abs(w.y) * bins[w.y > 0 ? 2 : 3] +
+         std::abs(w.z) * bins[w.z > 0 ? 4 : 5];
 }
+// An upper bound of the area the set shows in direction w (unit), Σ A (n·w)⁺, exact only where every
+// normal lies in w's octant or on an axis. A faceted sphere seen along a diagonal shows 1.7 times its
+// disk in the bins.
+inline double binned_area(const FacetBounds& F, const Vector3& w) { return binned(F.projected, w); }
 
 // How much the area the set shows may change as the direction turns from w to any direction within δ
 // of it (sin δ given), beyond the relative change sin δ × binned_area(w) that a one-point estimate

@@ -4,6 +4,7 @@
 #include <array>
 #include <limits>
 
+#include "solver/cubature.h"
 #include "solver/visible_fraction.h"
 
 namespace lambert::hierarchical {
@@ -128,29 +129,42 @@ int build_clusters(ClusterTree& h, const ElementForest& f, int first, int count,
   return index;
 }
 
-// Bounds of Σ A (n·w)⁺ over the roots of cluster c, added to [lower, upper]. A subtree whose normal
-// cone lies wholly in front of w's horizon adds its area vector · w, one wholly behind adds nothing,
-// and one with axis-aligned normals adds its bins, all exactly; only clusters whose normals straddle
-// the horizon are descended into, at most `budget` of them. Past the budget a cluster adds
-// (area vector · w)⁺ below and its bins above.
-void bound_projected_area(const ClusterTree& h, int c, const Vector3& w, int& budget, double& lower, double& upper) {
+// Bounds of Σ A (n·w)⁺ over the roots of cluster c, added to [lower, upper], and with `sent` of
+// Σ B A (n·w)⁺, added to [sent_lower, sent_upper]. A subtree whose normal cone lies wholly in front of
+// w's horizon adds its area vector · w, one wholly behind adds nothing, and one with axis-aligned
+// normals adds its bins, all exactly; only clusters whose normals straddle the horizon are descended
+// into, at most `budget` of them. Past the budget a cluster adds (area vector · w)⁺ below and its bins
+// above.
+struct ProjectedBounds {
+  double lower = 0, upper = 0, sent_lower = 0, sent_upper = 0;
+};
+void bound_projected_area(const ClusterTree& h, int c, const Vector3& w, const std::vector<SentFacets>* sent, int& budget,
+                          ProjectedBounds& out) {
   const Cluster& C = h.clusters[c];
-  double exact = -1;
+  enum class Seen { Straddling, Bins, Facing, Behind } seen = Seen::Straddling;
   if (C.axis_normals) {
-    exact = binned_area(C, w);
+    seen = Seen::Bins;
   } else if (C.cone_sin <= 1 || C.root >= 0) {
     const double along = dot(C.cone_axis, w);
-    if (along >= C.cone_sin || C.root >= 0) exact = std::max(0.0, dot(C.area_vector, w));
-    else if (along <= -C.cone_sin) exact = 0;
+    if (along >= C.cone_sin || C.root >= 0) seen = Seen::Facing;
+    else if (along <= -C.cone_sin) seen = Seen::Behind;
   }
-  if (exact >= 0) {
-    lower += exact, upper += exact;
-  } else if (budget-- <= 0) {
-    lower += std::max(0.0, dot(C.area_vector, w)), upper += binned_area(C, w);
-  } else {
-    bound_projected_area(h, C.child[0], w, budget, lower, upper);
-    bound_projected_area(h, C.child[1], w, budget, lower, upper);
+  if (seen == Seen::Straddling && budget-- > 0) {
+    bound_projected_area(h, C.child[0], w, sent, budget, out);
+    bound_projected_area(h, C.child[1], w, sent, budget, out);
+    return;
   }
+  auto add = [&](const Bins& bins, const Vector3& area_vector, double& lower, double& upper) {
+    const double in_bins = binned(bins, w), facing = std::max(0.0, dot(area_vector, w));
+    switch (seen) {
+      case Seen::Bins: lower += in_bins, upper += in_bins; break;
+      case Seen::Facing: lower += facing, upper += facing; break;
+      case Seen::Behind: break;
+      case Seen::Straddling: lower += facing, upper += in_bins; break;  // past the budget
+    }
+  };
+  add(C.projected, C.area_vector, out.lower, out.upper);
+  if (sent) add((*sent)[c].projected, (*sent)[c].area_vector, out.sent_lower, out.sent_upper);
 }
 constexpr int kProjectionBudget = 256;  // clusters descended into per bound_projected_area
 
@@ -166,16 +180,17 @@ void table_cluster_samples(ClusterTree& h) {
 
 }  // namespace
 
-ClusterView cluster_view(const ClusterTree& h, int c, const Vector3& w, double sin_delta) {
+ClusterView cluster_view(const ClusterTree& h, int c, const Vector3& w, double sin_delta,
+                         const std::vector<SentFacets>* sent) {
   ClusterView view;
   const double wa[3] = {w.x, w.y, w.z};
   for (int a = 0; a < 3; ++a) view.bin[a] = static_cast<unsigned char>(wa[a] > 0 ? 2 * a : 2 * a + 1);
   const Cluster& C = h.clusters[c];
   view.turning = turning_area(C, w, sin_delta);
-  const double binned = binned_area(C, w);
-  if (binned <= 0) return view;
+  const double in_bins = binned_area(C, w);
+  if (in_bins <= 0) return view;
   if (C.axis_normals) {  // the bins are exact (the common case in buildings)
-    view.projected = binned;
+    view.projected = in_bins;
     for (int a = 0; a < 3; ++a) view.weight[a] = std::abs(wa[a]);
     return view;
   }
@@ -188,13 +203,51 @@ ClusterView cluster_view(const ClusterTree& h, int c, const Vector3& w, double s
     }
     return view;
   }
-  double lower = 0, upper = 0;
+  ProjectedBounds bounds;
   int budget = kProjectionBudget;
-  bound_projected_area(h, c, w, budget, lower, upper);
-  view.projected = 0.5 * (lower + upper);
-  view.uncertainty = 0.5 * (upper - lower);
-  for (int a = 0; a < 3; ++a) view.weight[a] = std::abs(wa[a]) * view.projected / binned;
+  bound_projected_area(h, c, w, sent, budget, bounds);
+  view.projected = 0.5 * (bounds.lower + bounds.upper);
+  view.uncertainty = 0.5 * (bounds.upper - bounds.lower);
+  // The bins' share that the cluster sends along w: of its area, or of its power under `sent`.
+  double share = view.projected / in_bins;
+  if (sent) {
+    const double sent_binned = binned((*sent)[c].projected, w);
+    if (sent_binned > 0) share = 0.5 * (bounds.sent_lower + bounds.sent_upper) / sent_binned;
+  }
+  for (int a = 0; a < 3; ++a) view.weight[a] = std::abs(wa[a]) * share;
   return view;
+}
+
+double weight_along(const ClusterView& view, int a, const Vector3& w, const Vector3& u) {
+  if (view.bin[a] >= kAxisBin) return u[a];
+  return (u[a] > 0) == (w[a] > 0) && w[a] != 0 ? view.weight[a] * u[a] / w[a] : 0.0;
+}
+
+std::array<double, 3> receiver_mean_factors(const ClusterView& view, const Vector3& w, const Point3& centre,
+                                            const Triangle& R, const Vector3& n_R) {
+  const TriangleRule rule = triangle_rule_degree5();
+  std::array<double, 3> factor{};
+  for (int q = 0; q < rule.size; ++q) {
+    const auto& b = rule.nodes[q];
+    const Vector3 to_node = barycentric(R.v[0], R.v[1], R.v[2], b[0], b[1], b[2]) - centre;
+    const double d2 = dot(to_node, to_node);
+    const double d = std::sqrt(d2);
+    const double cos_r = -dot(n_R, to_node) / d;
+    if (!(cos_r > 0)) continue;  // behind R's horizon: the kernel's (cos θ)⁺ is 0
+    const double kernel = rule.weights[q] * cos_r / (kPi * d2);
+    for (int a = 0; a < 3; ++a) factor[a] += kernel * weight_along(view, a, w, to_node / d);
+  }
+  return factor;
+}
+
+std::array<double, 3> receivers_factors(const ClusterView& view, const Vector3& w, const Point3& to, const Point3& from,
+                                        Vector3& toward) {
+  const Vector3 from_source = to - from;
+  const double d2 = dot(from_source, from_source);
+  toward = -from_source / std::sqrt(d2);
+  std::array<double, 3> factor{};
+  for (int a = 0; a < 3; ++a) factor[a] = weight_along(view, a, w, -toward) / (kPi * d2);
+  return factor;
 }
 
 ClusterTree build_cluster_tree(const ElementForest& forest) {

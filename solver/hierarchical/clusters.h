@@ -6,9 +6,10 @@
 // A cluster sends its radiant intensity I(ω) = Σ_j B_j A_j (n_j·ω)⁺ / π from its radiosity-weighted
 // projected areas on the six axis directions, Φ_k = Σ_j B_j A_j (n_j·e_k)⁺: where every normal faces
 // ω, exactly as ω · Σ_j B_j A_j n_j (Φ_2a − Φ_2a+1 per axis); elsewhere as Σ_k (ω·e_k)⁺ Φ_k scaled
-// so that a cluster of uniform radiosity sends exactly the area it shows, Σ_j A_j (n_j·ω)⁺ (found
-// through the clusters' normal cones: the bins alone overstate it up to √3 times wherever normals
-// are not in ω's octant). See ClusterView.
+// so that the radiosity the refinement knows (the oracle's, oracle.h) sends exactly what it sends
+// along ω (found through the clusters' normal cones: the bins alone overstate it up to √3 times
+// wherever normals are not in ω's octant). A link takes the kernel from where that radiosity's power
+// comes, over an element receiver as its mean. See ClusterView.
 #pragma once
 
 #include <array>
@@ -83,16 +84,25 @@ inline void scatter_bin(double* phi_bar, unsigned char bin, double value) {
   phi_bar[2 * a + 1] -= value;
 }
 
+// What the clusters' roots send under a given radiosity B ≥ 0 per root (the oracle's, oracle.h):
+// Σ B A (n·e_k)⁺ and Σ B A n, as FacetBounds::projected and area_vector are without B.
+struct SentFacets {
+  Bins projected{};
+  Vector3 area_vector{};
+};
+
 // How a link to cluster c from direction w (unit, from the cluster) reads its projected power Φ.
 // Where every normal of the cluster faces w (its normal cone lies within π/2 of w), Σ_j B_j A_j (n_j ·
 // w)⁺ = w · Σ_j B_j A_j n_j exactly whatever the radiosity: the three axis bins, weighted by w's
 // components. (Like the bins, it is read along w alone; what the other directions of the pair
 // change is the oracle's `turning` term.) Otherwise the three bins facing w, weighted so that a
 // cluster of uniform radiosity B sends B × `projected` (the area it shows, within ± `uncertainty`)
-// rather than the bins' upper bound; where the radiosity is not uniform over the normals, that
-// weighting errs (a faceted sphere lit from above, B ∝ n_z, read 30° off its axis: 13 % low, so that
-// the lit sphere room's ceiling gathered 0.5 % too little of the spheres' tops). The bins are exact
-// for any radiosity where every normal is ± an axis.
+// rather than the bins' upper bound, or with `sent` (per cluster) so that the radiosity it was taken
+// from sends what it sends along w (to the bounds' uncertainty). Uniform weights err where the
+// radiosity varies over the normals: a faceted sphere lit from above, B ∝ n_z, read 30° off its axis
+// 13 % low, and the lit sphere room's panel gathered its links from clusters whose normals straddle
+// its direction 15–35 % short, the spheres' bright tops read as if as dim as their sides. The bins
+// are exact for any radiosity where every normal is ± an axis.
 struct ClusterView {
   std::array<unsigned char, 3> bin{};
   std::array<double, 3> weight{};
@@ -100,7 +110,29 @@ struct ClusterView {
   double uncertainty = 0;
   double turning = 0;  // turning_area over the pair's directions (facet_bounds.h)
 };
-ClusterView cluster_view(const ClusterTree& tree, int c, const Vector3& w, double sin_delta);
+ClusterView cluster_view(const ClusterTree& tree, int c, const Vector3& w, double sin_delta,
+                         const std::vector<SentFacets>* sent = nullptr);
+
+// The weight of the view's bin a (taken along w) along a direction u near w: an axis bin's is u_a
+// (exact: linear in the direction); a bin's, |u_a| times the view's scale for w, and 0 where u_a is on
+// the bin's other side (that side is another bin, which the view does not read).
+double weight_along(const ClusterView& view, int a, const Vector3& w, const Vector3& u);
+
+// The factors by which an element receiver R (unit normal n_R) gathers the bins `view` reads of a
+// cluster sending from `centre`, seen along w: the mean over R, by the degree-5 rule, of each bin's
+// weight_along the node's own direction w_x times cos θ_x / (π d_x²). The kernel at R's centre alone
+// misses its curvature over R, which for a far receiver off the cluster's axis is convex and
+// one-signed: links from sphere tops to the lit sphere room's ceiling read 0.2–0.4 % low at
+// scale/d = 0.1 and 2.7–5.3 % at 0.4, their means over R within 0.5 % (docs/BENCHMARKS.md).
+std::array<double, 3> receiver_mean_factors(const ClusterView& view, const Vector3& w, const Point3& centre,
+                                            const Triangle& R, const Vector3& n_R);
+
+// The factors by which the roots of a receiving cluster centred at `to` gather the bins `view` reads
+// of a cluster sending from `from` (seen along w from its centre): the bins' weights along the
+// direction from `from` over π d², d from `from` to `to`; `toward` is the unit direction from `to` to
+// `from`, along which every receiver takes its n · toward (ClusterLink).
+std::array<double, 3> receivers_factors(const ClusterView& view, const Vector3& w, const Point3& to, const Point3& from,
+                                        Vector3& toward);
 
 // The bounds of the BF oracle (refiner.h) on a cluster's one-point estimate, per unit of the cluster's
 // radiosity, toward a receiver across distance d between bounding spheres whose radii sum to `scale`

@@ -22,9 +22,21 @@ OracleRadiosity oracle_radiosity(const Hierarchy& h, const SpectralSystems& syst
                                  const std::vector<Hemisphere>& hemisphere, const std::vector<char>& shoots,
                                  bool with_ambient);
 
+// How each cluster sends under a radiosity, which its links' factors are shaped by (Refiner).
+struct ClusterSending {
+  // Where its power comes from: Σ A B x / Σ A B over the leaves below (x their centroids), the box's
+  // centre where it sends nothing. A cluster link's one-point estimate is taken from there: the box's
+  // centre misses the radiosity's first moment over the cluster, and a sphere lit from above sends
+  // most from its top, nearer a ceiling than the centre.
+  std::vector<Point3> source;
+  // What it sends (SentFacets), by which its links read their bins (cluster_view).
+  std::vector<SentFacets> sent;
+};
+
 struct OracleValues {
   std::vector<double> element_B;  // area mean of the leaves below
   std::vector<double> cluster_B;  // the largest leaf below
+  ClusterSending sending;
   // How far the radiosity below each element departs from a linear field over it: the largest, over
   // the element and the elements below it, of |B_centre − (B_0 + B_1 + B_2) / 3| over its children
   // (a linear field gives the centre child the mean of the three corner children, since each child's

@@ -51,7 +51,7 @@ Refiner::Refiner(const Hierarchy& h, const Visibility& vis, const ExactVisibilit
                  const SolidShafts& solids, const OracleValues& oracle, double epsilon, double unit_area, double accuracy,
                  ExchangeCache& exchange, HiddenRoom& hidden_room)
     : h_(h), vis_(vis), shafts_(shafts), planes_(planes), solids_(solids), element_B_(oracle.element_B),
-      cluster_B_(oracle.cluster_B), departure_(oracle.element_departure),
+      cluster_B_(oracle.cluster_B), sending_(oracle.sending), departure_(oracle.element_departure),
       epsilon_(epsilon), unit_area_(unit_area), exchange_(exchange), hidden_room_(hidden_room) {
   // The cubature of near pairs may err by a tenth of what the oracle allows a link (relative), not
   // the dense solver's 1e-5: the city block of the benchmarks solved 1.3× faster, its radiosity
@@ -164,7 +164,7 @@ void Refiner::refine_to_cluster(int r, int c, LinkBatch& out) const {
     const double sin_delta = scale / d;
     const double cos_r = -dot(R.normal, w);
     if (cos_r <= -sin_delta || !may_face(C, w, sin_delta, bounds(R.tri))) return;
-    const ClusterView view = cluster_view(h_, c, w, sin_delta);
+    const ClusterView view = cluster_view(h_, c, w, sin_delta, &sending_.sent);
     // A link of factor 0 where the line between the centres misses: dropped if all that could pass
     // along the other directions is within the budget.
     if ((view.projected <= 0 || cos_r <= 0) &&
@@ -177,7 +177,8 @@ void Refiner::refine_to_cluster(int r, int c, LinkBatch& out) const {
       link.source = c;
       link.from_cluster = true;
       link.bin = view.bin;
-      for (int a = 0; a < 3; ++a) link.coeff[a] = static_cast<float>(view.weight[a] * cos_r / (kPi * d * d));
+      const std::array<double, 3> factor = receiver_mean_factors(view, w, sending_.source[c], R.tri, R.normal);
+      for (int a = 0; a < 3; ++a) link.coeff[a] = static_cast<float>(factor[a]);
       link.error_per_B = static_cast<float>(error_per_B);
       if (planes_.clear_cluster(c, r, false) || solids_.clear_cluster(c, r, false))
         out.links.push_back(link);  // wholly visible, no rays
@@ -241,7 +242,7 @@ void Refiner::refine_pair(int rc, int s, bool from_cluster, LinkBatch& out) cons
   ClusterView view;
   if (from_cluster) {
     if (!may_face(h_.clusters[s], w, sin_delta, R.box)) return;
-    view = cluster_view(h_, s, w, sin_delta);
+    view = cluster_view(h_, s, w, sin_delta, &sending_.sent);
   } else {
     const Element& E = h_.elements[s];
     if (dot(E.normal, w) <= -sin_delta) return;
@@ -271,12 +272,14 @@ void Refiner::refine_pair(int rc, int s, bool from_cluster, LinkBatch& out) cons
   link.source = s;
   link.from_cluster = from_cluster;
   link.bin = view.bin;
+  Vector3 toward = -w;
   if (from_cluster) {
-    for (int a = 0; a < 3; ++a) link.coeff[a] = static_cast<float>(view.weight[a] / (kPi * d * d));
+    const std::array<double, 3> factor = receivers_factors(view, w, R.centre, sending_.source[s], toward);
+    for (int a = 0; a < 3; ++a) link.coeff[a] = static_cast<float>(factor[a]);
   } else {
     link.coeff[0] = static_cast<float>(view.projected / (kPi * d * d));
   }
-  link.toward = {static_cast<float>(-w.x), static_cast<float>(-w.y), static_cast<float>(-w.z)};
+  link.toward = {static_cast<float>(toward.x), static_cast<float>(toward.y), static_cast<float>(toward.z)};
   link.error_per_B = static_cast<float>(error_per_B);
   link.proven_visible = planes_.clear_cluster(rc, s, from_cluster) || solids_.clear_cluster(rc, s, from_cluster);
   if (link.proven_visible) out.cluster_links.push_back(link);  // wholly visible, no rays

@@ -155,6 +155,7 @@ class Refiner {
   const SolidShafts& solids_;
   const std::vector<double>& element_B_;
   const std::vector<double>& cluster_B_;
+  const ClusterSending& sending_;          // OracleValues::sending
   const std::vector<double>& departure_;  // OracleValues::element_departure
   double epsilon_;
   double unit_area_;
