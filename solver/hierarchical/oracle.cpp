@@ -44,6 +44,46 @@ OracleRadiosity oracle_radiosity(const Hierarchy& h, const SpectralSystems& syst
   return {std::move(leaf_B), power};
 }
 
+ClusterSending cluster_sending(const Hierarchy& h, const std::vector<double>& leaf_B, std::vector<double>& largest) {
+  struct RootPower {
+    double largest = 0;  // the largest leaf's B
+    double power = 0;    // Σ A B
+    Vector3 moment;      // Σ A B x
+  };
+  std::vector<RootPower> root(h.elements.size());
+  for (std::size_t i = 0; i < h.leaves.size(); ++i) {
+    const Element& leaf = h.elements[h.leaves[i]];
+    RootPower& r = root[leaf.root];
+    r.largest = std::max(r.largest, leaf_B[i]);
+    const double power = leaf.area * leaf_B[i];
+    r.power += power;
+    r.moment += power * to_vector(leaf.centre);
+  }
+  largest.assign(h.clusters.size(), 0.0);
+  ClusterSending out;
+  out.source.resize(h.clusters.size());
+  out.sent.resize(h.clusters.size());
+  std::vector<RootPower> below(h.clusters.size());
+  for (std::size_t c = h.clusters.size(); c-- > 0;) {  // children come after their parent
+    const Cluster& cl = h.clusters[c];
+    SentFacets& sent = out.sent[c];
+    if (cl.root >= 0) {  // a root is flat: its leaves share its normal
+      below[c] = root[cl.root];
+      const Vector3& n = h.elements[cl.root].normal;
+      sent = {projected_bins(n, below[c].power), below[c].power * n};
+    } else {
+      const RootPower &a = below[cl.child[0]], &b = below[cl.child[1]];
+      below[c] = {std::max(a.largest, b.largest), a.power + b.power, a.moment + b.moment};
+      const SentFacets &sa = out.sent[cl.child[0]], &sb = out.sent[cl.child[1]];
+      for (int k = 0; k < 6; ++k) sent.projected[k] = sa.projected[k] + sb.projected[k];
+      sent.area_vector = sa.area_vector + sb.area_vector;
+    }
+    largest[c] = below[c].largest;
+    out.source[c] = below[c].power > 0 ? to_point(below[c].moment / below[c].power) : cl.centre;
+  }
+  return out;
+}
+
 OracleValues oracle_values(const Hierarchy& h, const std::vector<double>& leaf_B) {
   OracleValues out;
   Hierarchy::Values v;
@@ -63,41 +103,7 @@ OracleValues oracle_values(const Hierarchy& h, const std::vector<double>& leaf_B
     if (open) departure = std::max(departure, std::abs(B[c + 3] - (B[c] + B[c + 1] + B[c + 2]) / 3));
     out.element_departure[e] = departure;
   }
-  struct RootPower {
-    double largest = 0;  // the largest leaf's B
-    double power = 0;    // Σ A B
-    Vector3 moment;      // Σ A B x
-  };
-  std::vector<RootPower> root(h.elements.size());
-  for (std::size_t i = 0; i < h.leaves.size(); ++i) {
-    const Element& leaf = h.elements[h.leaves[i]];
-    RootPower& r = root[leaf.root];
-    r.largest = std::max(r.largest, leaf_B[i]);
-    const double power = leaf.area * leaf_B[i];
-    r.power += power;
-    r.moment += power * to_vector(leaf.centre);
-  }
-  out.cluster_B.assign(h.clusters.size(), 0.0);
-  out.sending.source.resize(h.clusters.size());
-  out.sending.sent.resize(h.clusters.size());
-  std::vector<RootPower> below(h.clusters.size());
-  for (std::size_t c = h.clusters.size(); c-- > 0;) {  // children come after their parent
-    const Cluster& cl = h.clusters[c];
-    SentFacets& sent = out.sending.sent[c];
-    if (cl.root >= 0) {  // a root is flat: its leaves share its normal
-      below[c] = root[cl.root];
-      const Vector3& n = h.elements[cl.root].normal;
-      sent = {projected_bins(n, below[c].power), below[c].power * n};
-    } else {
-      const RootPower &a = below[cl.child[0]], &b = below[cl.child[1]];
-      below[c] = {std::max(a.largest, b.largest), a.power + b.power, a.moment + b.moment};
-      const SentFacets &sa = out.sending.sent[cl.child[0]], &sb = out.sending.sent[cl.child[1]];
-      for (int k = 0; k < 6; ++k) sent.projected[k] = sa.projected[k] + sb.projected[k];
-      sent.area_vector = sa.area_vector + sb.area_vector;
-    }
-    out.cluster_B[c] = below[c].largest;
-    out.sending.source[c] = below[c].power > 0 ? to_point(below[c].moment / below[c].power) : cl.centre;
-  }
+  out.sending = cluster_sending(h, leaf_B, out.cluster_B);
   return out;
 }
 

@@ -33,6 +33,9 @@ struct ClusterSending {
   std::vector<SentFacets> sent;
 };
 
+// How each cluster sends under `leaf_B` (≥ 0 per leaf), and the largest leaf_B below each cluster.
+ClusterSending cluster_sending(const Hierarchy& h, const std::vector<double>& leaf_B, std::vector<double>& largest);
+
 struct OracleValues {
   std::vector<double> element_B;  // area mean of the leaves below
   std::vector<double> cluster_B;  // the largest leaf below

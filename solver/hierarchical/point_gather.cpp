@@ -29,18 +29,16 @@ HierarchicalPointGather::HierarchicalPointGather(const Hierarchy& h, const Plane
     : h_(h), planes_(planes), vis_(vis), exact_(exact) {
   const std::size_t K = B.size(), N = h.leaves.size();
   h.pull(B, values_);
-  lo_.assign(h.elements.size(), 1e300), hi_.assign(h.elements.size(), -1e300), cluster_B_.assign(h.clusters.size(), 0);
+  lo_.assign(h.elements.size(), 1e300), hi_.assign(h.elements.size(), -1e300);
   for (std::size_t e = h.elements.size(); e-- > 0;) {
     const Element& el = h.elements[e];
     if (el.leaf >= 0)
       for (std::size_t k = 0; k < K; ++k) lo_[e] = std::min(lo_[e], B[k][el.leaf]), hi_[e] = std::max(hi_[e], B[k][el.leaf]);
     if (el.parent >= 0) lo_[el.parent] = std::min(lo_[el.parent], lo_[e]), hi_[el.parent] = std::max(hi_[el.parent], hi_[e]);
   }
-  for (std::size_t c = h.clusters.size(); c-- > 0;) {
-    const Cluster& cl = h.clusters[c];
-    cluster_B_[c] = cl.root >= 0 ? std::max(std::abs(lo_[cl.root]), std::abs(hi_[cl.root]))
-                                 : std::max(cluster_B_[cl.child[0]], cluster_B_[cl.child[1]]);
-  }
+  std::vector<double> largest(N);  // per leaf, over the systems
+  for (std::size_t i = 0; i < N; ++i) largest[i] = std::max(std::abs(lo_[h.leaves[i]]), std::abs(hi_[h.leaves[i]]));
+  sending_ = cluster_sending(h, largest, cluster_B_);
   double power = 0, area = 0;
   for (std::size_t i = 0; i < N; ++i) {
     const int e = h.leaves[i];
@@ -109,7 +107,7 @@ void HierarchicalPointGather::visit_cluster(const Receiver& r, const Point3& fro
     const double sin_delta = C.radius / d;
     if (planar && -dot(n, w) <= -sin_delta) return;  // behind the plane from every point of the cluster
     if (!may_face(C, w, sin_delta, Bounds3{p, p})) return;
-    const ClusterView view = cluster_view(h_, c, w, sin_delta);
+    const ClusterView view = cluster_view(h_, c, w, sin_delta, &sending_.sent);
     const double weight = receiver_weight(r, -w);  // (n·ω)⁺ for a plane
     if (view.projected <= 0 || weight <= 0) {
       // The line between the centres misses; the other directions may not. A receiver other than
@@ -127,8 +125,12 @@ void HierarchicalPointGather::visit_cluster(const Receiver& r, const Point3& fro
           },
           [&](const Point3&, const Point3& q) { return receiver_link_weight(r, q, source_normal); });
       const std::size_t K = values_.K;
+      const Vector3 from_source = p - sending_.source[c];
+      const double d2 = dot(from_source, from_source);
+      const Vector3 u = from_source / std::sqrt(d2);
+      const double seen = receiver_weight(r, -u);
       for (int a = 0; a < 3; ++a) {
-        const double coeff = view.weight[a] * weight * v / (kPi * d * d);
+        const double coeff = weight_along(view, a, w, u) * seen * v / (kPi * d2);
         for (std::size_t k = 0; k < K; ++k) E[k] += coeff * bin_value(&values_.Phi[c * 6 * K], view.bin[a], K, k);
       }
       return;

@@ -4,7 +4,8 @@
 // visible part, as the dense gather's patches do, so that the rays' noise does not reach the probe.
 //
 // A cluster is taken whole where the oracle's bound on its one-point estimate (clusters.h) is within
-// the tolerance, or left out where all it could send is; an element where its radiosity varies little
+// the tolerance (read from where its power comes, its bins weighted by what it sends: ClusterSending),
+// or left out where all it could send is; an element where its radiosity varies little
 // over it and it is wholly visible or wholly hidden; a leaf always. The tolerance is a tenth of
 // solver.accuracy times the scene's mean radiosity per unit of projected solid angle.
 #pragma once
@@ -13,6 +14,7 @@
 
 #include "solver/exact_visibility.h"
 #include "solver/hierarchical/hierarchy.h"
+#include "solver/hierarchical/oracle.h"
 #include "solver/hierarchical/plane_verdicts.h"
 #include "solver/pipeline/transport_operator.h"
 
@@ -46,6 +48,10 @@ class HierarchicalPointGather final : public PointGather {
   // Per element: the subtree's least and largest radiosity over the systems, which decide how deep a
   // point must look into it; per cluster: its largest |B|.
   std::vector<double> lo_, hi_, cluster_B_;
+  // How each cluster sends under the largest |B| over the systems: a cluster taken whole is read as
+  // the refiner's links read it (Refiner::refine_to_cluster), from its power's centroid with its bins
+  // weighted by what it sends, here by the solved radiosity itself.
+  ClusterSending sending_;
   double tolerance_ = 0;  // what a taken node may err by, per unit of projected solid angle (× B)
 };
 
