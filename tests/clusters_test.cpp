@@ -233,6 +233,13 @@ TEST(ReceiverMeanFactors, AreTheKernelsMeanOverTheReceiver) {
   for (const Triangle& t : cells) mean += kernel(t.centroid());
   mean /= static_cast<double>(cells.size());
   EXPECT_NEAR(read, mean, 1e-3 * mean);
+  // At one receiving point (links into clusters, probes): the kernel there, its cos θ taken along
+  // `toward` by the receiver.
+  Vector3 toward;
+  const std::array<double, 3> at_point = receivers_factors(view, w, R.centroid(), from, toward);
+  double point_read = 0;
+  for (int a = 0; a < 3; ++a) point_read += at_point[a] * bin_value(&values.Phi[0], view.bin[a], 1, 0);
+  EXPECT_NEAR(point_read * std::max(0.0, dot(n_R, toward)), kernel(R.centroid()), 1e-12 * kernel(R.centroid()));
   EXPECT_GT(std::abs(kernel(R.centroid()) / mean - 1), 0.05);  // what the mean is for
 }
 

@@ -125,12 +125,11 @@ void HierarchicalPointGather::visit_cluster(const Receiver& r, const Point3& fro
           },
           [&](const Point3&, const Point3& q) { return receiver_link_weight(r, q, source_normal); });
       const std::size_t K = values_.K;
-      const Vector3 from_source = p - sending_.source[c];
-      const double d2 = dot(from_source, from_source);
-      const Vector3 u = from_source / std::sqrt(d2);
-      const double seen = receiver_weight(r, -u);
+      Vector3 toward;  // from the probe to where the cluster's power comes from
+      const std::array<double, 3> factor = receivers_factors(view, w, p, sending_.source[c], toward);
+      const double seen = receiver_weight(r, toward);
       for (int a = 0; a < 3; ++a) {
-        const double coeff = weight_along(view, a, w, u) * seen * v / (kPi * d2);
+        const double coeff = factor[a] * seen * v;
         for (std::size_t k = 0; k < K; ++k) E[k] += coeff * bin_value(&values_.Phi[c * 6 * K], view.bin[a], K, k);
       }
       return;
