@@ -246,8 +246,12 @@ TEST(Hierarchical, LitRoomWithFacetedSpheresAgreesWithDenseSolver) {
   // the spheres' facets within 0.3 % rms and 1.5 % worst (measured 0.13 % and 0.07 % rms, 0.35 % and
   // 0.38 % worst). Without the departure of a source's radiosity from the linear field its links read
   // (OracleValues::element_departure) and what a view gains or loses across the pair (turning_area),
-  // the worst facet errs by 10 % (0.76 % rms). The room's patches: 0.62 % rms
-  // and 3.4 % worst, in the corners next to a sphere (docs/BENCHMARKS.md, "Patch by patch").
+  // the worst facet errs by 10 % (0.76 % rms). The room's patches: 0.63 % rms and 4.2 % worst, on
+  // the floor in a sphere's penumbra, where the dense solver's rays are the larger error: in a black
+  // copy of this room (E the panel's direct light alone, exactly integrated by ExactVisibility over
+  // each patch) the ten floor patches that differ most read 2–16 % off by the dense solver, within
+  // 0.6 % by the hierarchical method but for one at a twentieth of the mean E (5 %; docs/BENCHMARKS.md,
+  // "Bright links checked exactly").
   std::map<std::array<double, 3>, double> dense_at;  // by the sum of a patch's corners
   auto key = [](const Triangle& t) {
     return std::array<double, 3>{t.v[0].x + t.v[1].x + t.v[2].x, t.v[0].y + t.v[1].y + t.v[2].y, t.v[0].z + t.v[1].z + t.v[2].z};
@@ -269,7 +273,7 @@ TEST(Hierarchical, LitRoomWithFacetedSpheresAgreesWithDenseSolver) {
   }
   ASSERT_GT(shared[0], 400);
   EXPECT_LT(std::sqrt(squares[0] / shared[0]), 1e-2);
-  EXPECT_LT(worst[0], 4e-2);
+  EXPECT_LT(worst[0], 5e-2);
   // Reciprocity with occluders: the two directions of a hierarchical link take their visible
   // fractions from different rays, so a small, partly hidden link may differ by most of its value
   // (measured: 0.93) while the exchange-weighted mean stays small (0.56 %). The dense solver's

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "solver/exact_visibility.h"
+#include "solver/hierarchical/final_gather.h"
 #include "tests/hierarchical_helpers.h"
 #include "tests/scene_builder.h"
 
@@ -55,21 +56,24 @@ ErrorOfE error_of_E(const Solution& sol, On on, const std::vector<Triangle>& emi
 }
 
 // A black room with `emitter` (M = 1) and `occluder` in it, solved by the hierarchical method at
-// 0.03 m² patches, and the error of E over the room's patches that `on` selects.
+// 0.03 m² patches (with solver.exact_visibility where `exact`), and the error of E over the room's
+// patches that `on` selects.
 struct BlackRoom {
   Solution solution;
   ErrorOfE error;
 };
 template <class On>
 BlackRoom solve_black_room(const std::vector<Triangle>& room, const std::vector<Triangle>& emitter,
-                           const std::vector<Triangle>& occluder, On on) {
+                           const std::vector<Triangle>& occluder, On on, bool exact = false) {
   SceneBuilder b;
   const int black = b.material("black", 0.0);
   b.surface("room", black, room);
   b.surface("emitter", black, emitter, 1.0);
   b.surface("occluder", black, occluder);
   b.max_patch_area(0.03);
-  BlackRoom out{solve_with(b.scene(), SolverMethod::Hierarchical), {}};
+  Scene scene = b.scene();
+  scene.solver.exact_visibility = exact;
+  BlackRoom out{solve_with(scene, SolverMethod::Hierarchical), {}};
   std::vector<Triangle> occluders = room;
   occluders.insert(occluders.end(), occluder.begin(), occluder.end());
   out.error = error_of_E(out.solution, on, emitter, occluders);
@@ -107,19 +111,29 @@ TEST(LeafGather, LinksFoundPartlyHiddenAreSharedByTheLeavesOwnRays) {
   EXPECT_LT(wall.worst, 0.05);
 }
 
+// A black 4 × 4 × 3 m room, a 1 m² panel 5 cm under its ceiling emitting M = 1 downward, and a black
+// faceted ball of radius 0.5 m (320 faces) at (2, 2, 1.2) between them; solved once per visibility
+// mode and shared by the tests below. Nothing reflects, so a floor patch has E = M F, F the exact
+// visible factor to the panel.
+const BlackRoom& ball_under_panel(bool exact) {
+  const auto solve = [](bool exact_visibility) {
+    const std::vector<Triangle> room = box({0, 0, 0}, {4, 4, 3}, true);
+    const std::vector<Triangle> panel = rectangle({1.5, 1.5, 2.95}, {0, 1, 0}, {1, 0, 0});  // facing down
+    const std::vector<Triangle> ball = test::icosphere({2, 2, 1.2}, 0.5, 2);
+    return solve_black_room(room, panel, ball, [](const Point3& c) { return c.z <= 1e-9; }, exact_visibility);
+  };
+  static const BlackRoom by_default = solve(false), with_exact = solve(true);
+  return exact ? with_exact : by_default;
+}
+
 TEST(LeafGather, ALeafsBrightLinksInAPenumbraAreEvaluatedExactly) {
-  // A black 4 × 4 × 3 m room, a 1 m² panel 5 cm under its ceiling emitting M = 1 downward, and a black
-  // faceted ball of radius 0.5 m at (2, 2, 1.2) between them. Nothing reflects, so a floor patch has
-  // E = M F, F the exact visible factor to the panel. A floor leaf in the ball's penumbra holds its
-  // own links to the panel's leaves, which neither can be split further; 16 to 64 rays per link read
-  // their visible parts several per cent off, all alike, since the links share one shadow. Those whose
-  // transfer exceeds the refinement's budget are evaluated exactly (LeafGather::own_exact), and bright
+  // The ball under the panel above. A floor leaf in the ball's penumbra holds its own links to the
+  // panel's leaves, which neither can be split further; 16 to 64 rays per link read their visible
+  // parts several per cent off, all alike, since the links share one shadow. Those whose transfer
+  // exceeds the refinement's budget are evaluated exactly (LeafGather::own_exact, bright), and bright
   // pairs that the rays found hidden are checked by fresh rays (sort_hidden_pairs). The floor then
   // errs by 0.12 % of its mean E (rms) and 1.0 % (worst); with the rays' estimates, by 0.31 % and 1.8 %.
-  const std::vector<Triangle> room = box({0, 0, 0}, {4, 4, 3}, true);
-  const std::vector<Triangle> panel = rectangle({1.5, 1.5, 2.95}, {0, 1, 0}, {1, 0, 0});  // facing down
-  const std::vector<Triangle> ball = test::icosphere({2, 2, 1.2}, 0.5, 2);
-  const BlackRoom solved = solve_black_room(room, panel, ball, [](const Point3& c) { return c.z <= 1e-9; });
+  const BlackRoom& solved = ball_under_panel(false);
   const Solution& sol = solved.solution;
   const ErrorOfE& floor = solved.error;
   ASSERT_GT(floor.patches, 400);
@@ -128,6 +142,25 @@ TEST(LeafGather, ALeafsBrightLinksInAPenumbraAreEvaluatedExactly) {
   EXPECT_GT(sol.stats.hierarchical.leaf_links_exact, 0u);
   EXPECT_LT(floor.rms, 0.002);
   EXPECT_LT(floor.worst, 0.015);
+}
+
+TEST(LeafGather, ExactVisibilityPastACrowdedBallIsNoWorseThanTheDefault) {
+  // The ball under the panel above, with solver.exact_visibility. Its 320 faces crowd the box of every
+  // pair whose shaft passes it (more than kExactOccluders, in a scene of more than kSmallScene
+  // occluders), so those links keep their rays' estimate, as by default
+  // (LeafGather::mark_crowded_links), and must then take the default's exact evaluation of bright
+  // links as well.
+  static_assert(hierarchical::kExactOccluders < 320 && hierarchical::kSmallScene < 320 + 14);
+  const BlackRoom& exact = ball_under_panel(true);
+  const BlackRoom& by_default = ball_under_panel(false);
+  std::printf("floor, %d patches: error rms %.3g, worst %.3g of the mean (exact visibility, %zu crowded links); "
+              "by default %.3g, %.3g\n",
+              exact.error.patches, exact.error.rms, exact.error.worst, exact.solution.stats.hierarchical.crowded_links,
+              by_default.error.rms, by_default.error.worst);
+  EXPECT_GT(exact.solution.stats.hierarchical.crowded_links, 0u);
+  EXPECT_LT(exact.error.rms, 0.002);
+  EXPECT_LT(exact.error.worst, 0.015);
+  EXPECT_LT(exact.error.rms, 1.25 * by_default.error.rms);
 }
 
 }  // namespace

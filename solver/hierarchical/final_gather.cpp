@@ -124,11 +124,10 @@ std::size_t LeafGather::count() const {
           for (std::size_t l = h_.link_start[e]; l < h_.link_start[e + 1]; ++l)
             if (expanded(h_.links[l], l, static_cast<int>(e)))
               sum += leaves_below_[e] * sources_of(h_.links[l], l, static_cast<int>(e));
-          if (retrace_)
-            for (std::size_t l = h_.hidden_start[e]; l < h_.hidden_start[e + 1]; ++l)
-              sum += leaves_below_[e] * sources_of_hidden(l).size();
-          else if (own_hidden(static_cast<int>(e)))
-            sum += h_.hidden_start[e + 1] - h_.hidden_start[e];
+          for (std::size_t l = hidden_first(e); l < hidden_first(e + 1); ++l) {
+            if (retrace_) sum += leaves_below_[e] * sources_of_hidden(l).size();
+            sum += own_hidden(static_cast<int>(e), l);
+          }
         }
         return sum;
       },
@@ -248,16 +247,23 @@ std::size_t LeafGather::cluster_leaves(int c) const {
 bool LeafGather::expanded(const Link& l, std::size_t index, int receiver) const {
   if (sources_of(l, index, receiver) == 0) return false;
   if (h_.elements[receiver].leaf < 0 || l.from_cluster) return true;
-  if (!retrace_) return own_exact(l, receiver);
-  return !keeps_rays(index) && l.visibility() != LinkVisibility::ShaftClear && !clear(receiver, l.source);
+  if (!retrace_ || keeps_rays(index)) return own_exact(l, index, receiver);
+  return l.visibility() != LinkVisibility::ShaftClear && !clear(receiver, l.source);
 }
 
-bool LeafGather::own_hidden(int e) const {
-  return !retrace_ && partly_hidden_ && !h_.hidden_start.empty() && h_.elements[e].leaf >= 0 && !leaks_below_[e];
+bool LeafGather::own_hidden(int e, std::size_t index) const {
+  if (!partly_hidden_ || h_.elements[e].leaf < 0 || leaks_below_[e]) return false;
+  if (!retrace_) return true;  // the refiner kept only the bright pairs (Refiner::keeps_bright_hidden)
+  const Link& l = h_.hidden_links[index];
+  return crowded_.hidden[index] && !l.from_cluster &&
+         bright_leaf_pair(h_.elements[e], h_.elements[l.source], oracle_.element_B[static_cast<std::size_t>(l.source)],
+                          oracle_.epsilon);
 }
 
-bool LeafGather::own_exact(const Link& l, int receiver) const {
-  return !retrace_ && partly_hidden_ && !l.from_cluster && l.visibility() == LinkVisibility::Unknown &&
+bool LeafGather::own_exact(const Link& l, std::size_t index, int receiver) const {
+  const LinkVisibility v = l.visibility();
+  return (!retrace_ || keeps_rays(index)) && partly_hidden_ && !l.from_cluster &&
+         (v == LinkVisibility::Unknown || v == LinkVisibility::RaysUnanimous) &&
          h_.elements[receiver].leaf >= 0 && !leaks_below_[receiver] &&
          oracle_.element_B[static_cast<std::size_t>(l.source)] * l.mean_factor() > oracle_.epsilon &&
          !clear(receiver, l.source);
@@ -291,16 +297,15 @@ void LeafGather::gather_block(std::size_t r, std::vector<Link>& out, LeafGatherS
         const Link& link = h_.links[l];
         if (!expanded(link, l, p)) continue;
         if (!link.from_cluster)
-          entries.push_back({link.source, verdict_of(link, l), retrace_ ? !keeps_rays(l) : own_exact(link, p)});
+          entries.push_back({link.source, verdict_of(link, l), (retrace_ && !keeps_rays(l)) || own_exact(link, l, p)});
         for (int s : link.from_cluster ? small_cluster(link.source) : std::span<const int>{})
           entries.push_back({s, LinkVisibility::Unknown, retrace_});
       }
-      if (retrace_)
-        for (std::size_t l = h_.hidden_start[p]; l < h_.hidden_start[p + 1]; ++l)
+      for (std::size_t l = hidden_first(p); l < hidden_first(p + 1); ++l) {
+        if (retrace_)
           for (int s : sources_of_hidden(l)) entries.push_back({s, LinkVisibility::Unknown, true});
-      else if (p == e && own_hidden(e))
-        for (std::size_t l = h_.hidden_start[e]; l < h_.hidden_start[e + 1]; ++l)
-          entries.push_back({h_.hidden_links[l].source, LinkVisibility::Unknown, true, true});
+        if (p == e && own_hidden(e, l)) entries.push_back({h_.hidden_links[l].source, LinkVisibility::Unknown, true, true});
+      }
     }
     row.clear();
     gather_leaf(e, entries, row, stats);

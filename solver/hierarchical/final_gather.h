@@ -28,7 +28,11 @@
 // in the corner of a wall sees past a sphere what the far half of its element does not. Each link's
 // error is within the budget, but the links of one row share the shadow and err alike: in the lit
 // sphere room, a corner leaf gathered 0.961 of its view, its 30 links from the far wall reading 47 %
-// visible where the leaf sees 100 % (tests/leaf_gather_test.cpp; docs/BENCHMARKS.md). Where their
+// visible where the leaf sees 100 % (tests/leaf_gather_test.cpp; docs/BENCHMARKS.md). A leaf link
+// whose transfer B_s F exceeds the oracle's budget ε is evaluated exactly instead, as below, where
+// its rays disagreed or all arrived (bright, own_exact): 16 clear rays may pass beside an occluder's
+// edge, and a leaf's links from one emitter share its shadow and err alike (the direct light of the
+// lit sphere room: 0.142 % rms off an exact integration with rays, 0.096 % so). Where their
 // leaf links would pass the budget, those links stay as they are, before the proven ones do; so do
 // the element links whose receiver holds a leaking or enclosed leaf (leaks_below_). With `retrace`
 // (the scene's solver.exact_visibility), every link is expanded, those found hidden too
@@ -38,7 +42,8 @@
 // rule the factor they hide (their shadow on that triangle's plane, ExactVisibility::Shadow). Links
 // whose pair's box holds too many occluders are crowded (mark_crowded_links): they are treated as
 // by default (the partly hidden take the leaves' own rays, the hidden stay hidden, the unanimous are
-// trusted), which bounds the work where many occluders stand between many patches (a city block:
+// trusted, the bright ones are evaluated exactly all the same), which bounds the work where many
+// occluders stand between many patches (a city block:
 // 185 s, where evaluating every link exactly takes more than 15 minutes). The raw closure error of
 // the room with a floating cube (18 176 patches): 2.1 % before the gather, 1.6 % after it when the
 // partly hidden links stayed, 2e-6 with retrace, as in the room without the cube; the leaf's own 16
@@ -131,7 +136,8 @@ class LeafGather {
     LinkVisibility verdict;
     // Where its visibility is not proven: evaluated exactly (evaluate_pending), or by the leaf's own
     // rays (trace_pending). Exactly with retrace unless the link is crowded; by default, the leaf's
-    // own links found partly hidden (own_exact).
+    // bright own links found partly hidden or unanimous (own_exact). form_links adds every bright
+    // leaf link (bright).
     bool exact;
     // By default, a bright pair of leaves that the refiner's rays found hidden (own_hidden): fresh
     // rays first (sort_hidden_pairs), and exactly where they see any of it.
@@ -192,18 +198,32 @@ class LeafGather {
   // Whether link l at `receiver` is replaced by leaf links: it expands, unless it is a leaf's own
   // element link, which is a leaf link already (the refiner gave it the exact mean over the leaf) —
   // with retrace, one whose visibility is not proven is formed again, its visibility evaluated; by
-  // default, one found partly hidden (own_exact).
+  // default (and for a crowded link with retrace), a bright one (own_exact).
   bool expanded(const Link& l, std::size_t index, int receiver) const;
-  // By default, whether leaf `receiver`'s own element link l, which rays found partly hidden, is
-  // formed again with its visible part evaluated exactly. The refiner keeps a link between two leaves
-  // whatever its error, since neither can be split. Where its transfer B_s F exceeds the oracle's
-  // budget ε, the rays' error may too: 16 to 64 rays per link read a floor leaf's links to a panel in
-  // a sphere's penumbra 3–11 % off each, all alike, since they share one shadow (docs/BENCHMARKS.md).
-  // Not where a leaf below leaks (leaks_below_).
-  bool own_exact(const Link& l, int receiver) const;
-  // By default, whether leaf e gathers the bright pairs that the refiner's rays found hidden
-  // (Refiner::keeps_bright_hidden): fresh rays, then the exact visible part (sort_hidden_pairs).
-  bool own_hidden(int e) const;
+  // By default, whether leaf `receiver`'s own element link l, which rays found partly hidden or
+  // wholly visible, is formed again with its visible part evaluated exactly. The refiner keeps a link
+  // between two leaves whatever its error, since neither can be split. Where its transfer B_s F
+  // exceeds the oracle's budget ε, the rays' error may too: 16 to 64 rays per link read a floor
+  // leaf's links to a panel in a sphere's penumbra 3–11 % off each, all alike, since they share one
+  // shadow, and 16 rays that all arrive may pass beside the sphere's edge (docs/BENCHMARKS.md). Not
+  // where a leaf below leaks (leaks_below_). With retrace, the same for a crowded link (keeps_rays),
+  // which is otherwise treated as by default: its rays read a floor leaf in a ball's umbra under a
+  // panel 4 times short, where the ball's 1 280 faces crowd the pair's box.
+  bool own_exact(const Link& l, std::size_t index, int receiver) const;
+  // Whether leaf e gathers h_.hidden_links[index], a bright pair that the refiner's rays found
+  // hidden, by fresh rays and then its exact visible part (sort_hidden_pairs): by default, every one
+  // the refiner kept (Refiner::keeps_bright_hidden); with retrace, the crowded bright ones, which
+  // the exact pass leaves out (sources_of_hidden).
+  bool own_hidden(int e, std::size_t index) const;
+  // By default (and for a crowded link with retrace), whether leaf e's link from `source`, of factor
+  // F, whose rays disagreed or all arrived, is evaluated exactly rather than by the leaf's own rays
+  // or trusted: where its transfer B_s F exceeds the budget ε, as own_exact does for the leaf's own
+  // links. A floor leaf in a ball's penumbra gathers the panel through links formed above it too.
+  bool bright(int e, int source, double F) const {
+    return partly_hidden_ && !leaks_below_[e] && oracle_.element_B[static_cast<std::size_t>(source)] * F > oracle_.epsilon;
+  }
+  // The first hidden link of element e (hidden_start, which may be empty: none).
+  std::size_t hidden_first(int e) const { return h_.hidden_start.empty() ? 0 : h_.hidden_start[e]; }
 
   // The leaf links of root block r, in element order, each leaf's sorted by source.
   void gather_block(std::size_t r, std::vector<Link>& out, LeafGatherStats& stats) const;

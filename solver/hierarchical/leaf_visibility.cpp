@@ -30,11 +30,10 @@ void LeafGather::form_links(int e, const std::vector<Entry>& entries, const std:
     const Element& S = h_.elements[entry.source];
     const bool proven = entry.verdict == LinkVisibility::ShaftClear || entry.verdict == LinkVisibility::SolidsClear ||
                         clear(e, entry.source);
-    const bool visible = proven || entry.verdict == LinkVisibility::RaysTrusted ||
-                         (!retrace_ && rays_unanimous(entry.verdict));
     const bool near = near_F[k] >= 0;
     double F = 0;
     int f_row = -1;
+    bool rule_factors = false;  // f holds the source's unoccluded factors at the nodes
     if (near) {
       F = near_F[k];
     } else if (!h_.has_children(entry.source)) {  // leaf pairs as the refiner's: A F the same both ways
@@ -42,12 +41,18 @@ void LeafGather::form_links(int e, const std::vector<Entry>& entries, const std:
     } else {
       point_triangle_factors(node_span, L.normal, S.tri, f);
       for (std::size_t q = 0; q < size; ++q) F += weights[q] * f[q];
-      if (!visible && entry.exact) {  // kept for the exact pass, which needs the same factors
-        f_row = static_cast<int>(pending.f.size() / size);
-        pending.f.insert(pending.f.end(), f.begin(), f.end());
-      }
+      rule_factors = true;
     }
     if (!(F > 0)) continue;
+    // Rays that all arrived are trusted, except for a bright link: its 16 clear rays leave room for an
+    // occluder's edge that hides more than the budget (a floor leaf at a ball's penumbra, under a panel).
+    const bool trusted = entry.verdict == LinkVisibility::RaysTrusted || (!retrace_ && rays_unanimous(entry.verdict));
+    const bool visible = proven || (trusted && !bright(e, entry.source, F));
+    const bool exact = !visible && (entry.exact || bright(e, entry.source, F));
+    if (exact && rule_factors) {  // kept for the exact pass, which needs the same factors
+      f_row = static_cast<int>(pending.f.size() / size);
+      pending.f.insert(pending.f.end(), f.begin(), f.end());
+    }
     Link link;
     link.receiver = e;
     link.source = entry.source;
@@ -58,7 +63,7 @@ void LeafGather::form_links(int e, const std::vector<Entry>& entries, const std:
                         : visible ? LinkVisibility::RaysUnanimous
                                   : LinkVisibility::Unknown);
     if (!visible) {
-      Pending& to = entry.found_hidden ? hidden : entry.exact ? pending : traced;
+      Pending& to = entry.found_hidden ? hidden : exact ? pending : traced;
       to.links.emplace_back(static_cast<int>(row.size()), f_row);
     }
     row.push_back(link);

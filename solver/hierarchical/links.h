@@ -17,6 +17,7 @@
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_sort.h>
 
+#include "solver/form_factor.h"
 #include "solver/hierarchical/clusters.h"
 
 namespace lambert::hierarchical {
@@ -72,6 +73,14 @@ struct Link {
   double mean_factor() const { return (double{coeff[0]} + coeff[1] + coeff[2]) / 3; }
 };
 static_assert(sizeof(Link) == 28);
+
+// Whether the unoccluded transfer from leaf S (radiosity B) to leaf R exceeds the budget ε, by twice
+// the point factor at R's centroid: the estimate the refiner's early vote takes for pairs well apart.
+// Neither leaf can be split, so such a pair's visibility must be known better than rays know it
+// (Refiner::keeps_bright_hidden, LeafGather::own_exact).
+inline bool bright_leaf_pair(const Element& R, const Element& S, double B, double epsilon) {
+  return 2 * B * point_triangle_factor(R.centre, R.normal, S.tri) > epsilon;
+}
 
 // The weights w_v = 2 (β_v − 1/3) of an element link's point on its source, by which it reads the
 // source's corner children: the linear field fitted to their means m_v is B + Σ_v D_v β_v with

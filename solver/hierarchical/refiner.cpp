@@ -437,9 +437,7 @@ bool Refiner::keeps_hidden(bool clustered, bool from_cluster, int source) const 
 }
 
 bool Refiner::bright_leaves(const Link& link) const {
-  const Element& R = h_.elements[link.receiver];
-  const Element& S = h_.elements[link.source];
-  return 2 * element_B_[link.source] * point_triangle_factor(R.centre, R.normal, S.tri) > epsilon_;
+  return bright_leaf_pair(h_.elements[link.receiver], h_.elements[link.source], element_B_[link.source], epsilon_);
 }
 
 bool Refiner::keeps_bright_hidden(bool bright) const {
