@@ -89,8 +89,8 @@ TEST(LeafGather, LinksFoundPartlyHiddenAreSharedByTheLeavesOwnRays) {
   // fractions shared by the leaves below, the wall's patches err by 1.6 % of the mean E (rms) and
   // 10.4 % (worst); with each leaf's own rays by 0.75 % and 3.2 %, what remains being the leaves' own
   // links, whose 16 to 64 rays estimate their visible part. With the bright ones exact and the bright
-  // pairs found hidden traced again (the test below), by 0.84 % and 3.5 %: the pairs whose fresh rays
-  // all meet the beam are dropped, and some see the emitter through strips a few degrees wide.
+  // pairs found hidden evaluated exactly (the test below), by 0.82 % and 3.5 %: some of those pairs
+  // see the emitter through strips a few degrees wide.
   std::vector<Triangle> room = box({0, 0, 0}, {6, 4, 3}, true);
   std::vector<Triangle> emitter;
   for (auto it = room.begin(); it != room.end();) {  // the wall x = 0 on its own
@@ -130,9 +130,10 @@ TEST(LeafGather, ALeafsBrightLinksInAPenumbraAreEvaluatedExactly) {
   // The ball under the panel above. A floor leaf in the ball's penumbra holds its own links to the
   // panel's leaves, which neither can be split further; 16 to 64 rays per link read their visible
   // parts several per cent off, all alike, since the links share one shadow. Those whose transfer
-  // exceeds the refinement's budget are evaluated exactly (LeafGather::own_exact, bright), and bright
-  // pairs that the rays found hidden are checked by fresh rays (sort_hidden_pairs). The floor then
-  // errs by 0.12 % of its mean E (rms) and 1.0 % (worst); with the rays' estimates, by 0.31 % and 1.8 %.
+  // exceeds the refinement's budget are evaluated exactly (LeafGather::own_exact, bright), the bright
+  // pairs that the rays found hidden too (own_hidden). The floor then errs by 0.090 % of its mean E
+  // (rms) and 0.81 % (worst); with only the leaf's own partly hidden links exact and the hidden pairs
+  // traced again, by 0.12 % and 1.0 %; with the rays' estimates, by 0.31 % and 1.8 %.
   const BlackRoom& solved = ball_under_panel(false);
   const Solution& sol = solved.solution;
   const ErrorOfE& floor = solved.error;
@@ -140,8 +141,8 @@ TEST(LeafGather, ALeafsBrightLinksInAPenumbraAreEvaluatedExactly) {
   std::printf("floor, %d patches: mean E %.4g, error rms %.3g, worst %.3g of the mean; %zu leaf links exact\n",
               floor.patches, floor.mean, floor.rms, floor.worst, sol.stats.hierarchical.leaf_links_exact);
   EXPECT_GT(sol.stats.hierarchical.leaf_links_exact, 0u);
-  EXPECT_LT(floor.rms, 0.002);
-  EXPECT_LT(floor.worst, 0.015);
+  EXPECT_LT(floor.rms, 0.0015);
+  EXPECT_LT(floor.worst, 0.012);
 }
 
 TEST(LeafGather, ExactVisibilityPastACrowdedBallIsNoWorseThanTheDefault) {
@@ -149,7 +150,9 @@ TEST(LeafGather, ExactVisibilityPastACrowdedBallIsNoWorseThanTheDefault) {
   // pair whose shaft passes it (more than kExactOccluders, in a scene of more than kSmallScene
   // occluders), so those links keep their rays' estimate, as by default
   // (LeafGather::mark_crowded_links), and must then take the default's exact evaluation of bright
-  // links as well.
+  // links as well. Measured: 0.069 % (rms) and 0.81 % (worst) of the floor's mean E, by default
+  // 0.090 % and 0.81 %; 0.24 % and 1.6 % when crowded links kept the rays' estimates of their bright
+  // links too.
   static_assert(hierarchical::kExactOccluders < 320 && hierarchical::kSmallScene < 320 + 14);
   const BlackRoom& exact = ball_under_panel(true);
   const BlackRoom& by_default = ball_under_panel(false);

@@ -304,7 +304,7 @@ void LeafGather::gather_block(std::size_t r, std::vector<Link>& out, LeafGatherS
       for (std::size_t l = hidden_first(p); l < hidden_first(p + 1); ++l) {
         if (retrace_)
           for (int s : sources_of_hidden(l)) entries.push_back({s, LinkVisibility::Unknown, true});
-        if (p == e && own_hidden(e, l)) entries.push_back({h_.hidden_links[l].source, LinkVisibility::Unknown, true, true});
+        if (p == e && own_hidden(e, l)) entries.push_back({h_.hidden_links[l].source, LinkVisibility::Unknown, true});
       }
     }
     row.clear();

@@ -73,7 +73,6 @@ inline constexpr double kLeafFarField = 4;        // the rule alone beyond this 
 inline constexpr int kMaxCuttingPlanes = 3;       // planes that divide a leaf's rule (LeafGather::leaf_pieces)
 inline constexpr double kRuleTolerance = 1e-5;    // of a row, from its near sources (LeafGather::gather_leaf)
 inline constexpr int kRuleLevels = 3;             // times gather_leaf may split the pieces near them
-inline constexpr int kFreshFrom = 16;            // samples the refiner's vote on a pair traced (sort_hidden_pairs)
 // With exact visibility, links near whose boxes lie more than kExactOccluders occluders, in a scene of
 // more than kSmallScene, keep their rays' estimate, as every link does by default
 // (LeafGather::mark_crowded_links): the exact gather projects each occluder at every node of every
@@ -136,12 +135,10 @@ class LeafGather {
     LinkVisibility verdict;
     // Where its visibility is not proven: evaluated exactly (evaluate_pending), or by the leaf's own
     // rays (trace_pending). Exactly with retrace unless the link is crowded; by default, the leaf's
-    // bright own links found partly hidden or unanimous (own_exact). form_links adds every bright
-    // leaf link (bright).
+    // bright own links found partly hidden or unanimous (own_exact), and the bright pairs of leaves
+    // that the refiner's rays found hidden (own_hidden). form_links adds every bright leaf link
+    // (bright).
     bool exact;
-    // By default, a bright pair of leaves that the refiner's rays found hidden (own_hidden): fresh
-    // rays first (sort_hidden_pairs), and exactly where they see any of it.
-    bool found_hidden = false;
   };
 
   // The number of leaf links the gather would form (an upper bound: some turn out 0).
@@ -210,10 +207,13 @@ class LeafGather {
   // which is otherwise treated as by default: its rays read a floor leaf in a ball's umbra under a
   // panel 4 times short, where the ball's 1 280 faces crowd the pair's box.
   bool own_exact(const Link& l, std::size_t index, int receiver) const;
-  // Whether leaf e gathers h_.hidden_links[index], a bright pair that the refiner's rays found
-  // hidden, by fresh rays and then its exact visible part (sort_hidden_pairs): by default, every one
-  // the refiner kept (Refiner::keeps_bright_hidden); with retrace, the crowded bright ones, which
-  // the exact pass leaves out (sources_of_hidden).
+  // Whether leaf e gathers h_.hidden_links[index], a bright pair that the refiner's 16 rays found
+  // hidden, by its exact visible part: by default, every one the refiner kept
+  // (Refiner::keeps_bright_hidden); with retrace, the crowded bright ones, which the exact pass
+  // leaves out (sources_of_hidden). Such a pair may see its source past an occluder's edge: the 48
+  // further rays that once chose which to evaluate all missed some that a floor leaf under a panel
+  // sees in part, one-signed (the lit sphere room's direct light 0.096 % rms off an exact integration
+  // with them, 0.060 % without; docs/BENCHMARKS.md).
   bool own_hidden(int e, std::size_t index) const;
   // By default (and for a crowded link with retrace), whether leaf e's link from `source`, of factor
   // F, whose rays disagreed or all arrived, is evaluated exactly rather than by the leaf's own rays
@@ -280,12 +280,6 @@ class LeafGather {
   // The same by the leaf's own rays to each source: without retrace, the links found partly hidden
   // above the leaf and the unproven links into its clusters; with it, those of crowded links.
   void trace_pending(Pending& pending, std::vector<Link>& row, LeafGatherStats& stats) const;
-  // Bright pairs of leaves that the refiner's first kFreshFrom rays found hidden (own_hidden): the
-  // pair's later samples, up to kMaxVisibilitySamples, each traced once. A pair none of whose rays
-  // arrive is dropped, as the refiner left it; the rest join `exact`, for evaluate_pending. Most such
-  // pairs are wholly hidden (a floor leaf in a sphere's umbra against the panel's leaves), and the
-  // exact pass would cost each about 40 µs.
-  void sort_hidden_pairs(const Pending& hidden, Pending& exact, std::vector<Link>& row, LeafGatherStats& stats) const;
   // The pending links [first, last) (sorted by input triangle, root, source), whose sources lie in
   // `carrier`, past the occluders in the shaft between the leaf and the carrier.
   void evaluate_carrier(Pending& pending, std::vector<Link>& row, const Triangle& carrier, int level,

@@ -2,7 +2,6 @@
 // is not proven (LeafGather::form_links): see final_gather.h.
 #include <algorithm>
 #include <array>
-#include <cstdint>
 #include <tuple>
 
 #include "solver/hierarchical/final_gather.h"
@@ -17,10 +16,10 @@ void LeafGather::form_links(int e, const std::vector<Entry>& entries, const std:
   const Element& L = h_.elements[e];
   const std::size_t size = node_span.size();
   thread_local std::vector<double> f;
-  // Evaluated exactly, by the leaf's rays, and bright pairs found hidden (sort_hidden_pairs).
-  thread_local Pending pending, traced, hidden;
+  // Evaluated exactly, and by the leaf's rays.
+  thread_local Pending pending, traced;
   f.resize(size);
-  for (Pending* p : {&pending, &traced, &hidden}) {
+  for (Pending* p : {&pending, &traced}) {
     p->leaf = &L, p->nodes = node_span, p->weights = weights;
     p->links.clear(), p->f.clear();
   }
@@ -63,13 +62,12 @@ void LeafGather::form_links(int e, const std::vector<Entry>& entries, const std:
                         : visible ? LinkVisibility::RaysUnanimous
                                   : LinkVisibility::Unknown);
     if (!visible) {
-      Pending& to = entry.found_hidden ? hidden : exact ? pending : traced;
+      Pending& to = exact ? pending : traced;
       to.links.emplace_back(static_cast<int>(row.size()), f_row);
     }
     row.push_back(link);
     row_entry.push_back(static_cast<int>(k));
   }
-  if (!hidden.links.empty()) sort_hidden_pairs(hidden, pending, row, stats);
   if (!pending.links.empty()) evaluate_pending(pending, row, stats);
   if (!traced.links.empty()) trace_pending(traced, row, stats);
 }
@@ -92,33 +90,6 @@ void LeafGather::trace_pending(Pending& pending, std::vector<Link>& row, LeafGat
       fraction, 16);
   stats.traced += pending.links.size();
   for (std::size_t l = 0; l < pending.links.size(); ++l) set_visible_share(row[pending.links[l].first], fraction[l]);
-}
-
-void LeafGather::sort_hidden_pairs(const Pending& hidden, Pending& exact, std::vector<Link>& row,
-                                   LeafGatherStats& stats) const {
-  thread_local std::vector<Segment> segments;
-  thread_local std::vector<std::size_t> ray_pair;
-  thread_local std::vector<std::uint8_t> arrived;
-  thread_local std::vector<char> seen;
-  const Element& L = *hidden.leaf;
-  segments.clear(), ray_pair.clear();
-  for (std::size_t l = 0; l < hidden.links.size(); ++l) {
-    const Element& S = h_.elements[row[hidden.links[l].first].source];
-    for (int k = kFreshFrom; k < kMaxVisibilitySamples; ++k) {
-      const auto [p, q] = element_pair_ray(vis_, L.tri, L.normal, S.tri, S.normal, k);
-      if (link_weight(p, L.normal, q, S.normal) > 0) segments.push_back({p, q}), ray_pair.push_back(l);
-    }
-  }
-  arrived.resize(segments.size());
-  vis_.estimate_visible(segments, arrived);
-  stats.rays += segments.size();
-  seen.assign(hidden.links.size(), 0);
-  for (std::size_t r = 0; r < segments.size(); ++r) seen[ray_pair[r]] |= arrived[r] != 0;
-  for (std::size_t l = 0; l < hidden.links.size(); ++l)
-    if (seen[l])
-      exact.links.push_back(hidden.links[l]);
-    else
-      row[hidden.links[l].first].source = kReplaced;  // hidden: dropped below
 }
 
 // The visible part at the rule's nodes, exactly (no rays: rays that agree by chance kept the rows near

@@ -45,8 +45,8 @@ using ExchangeCache = tbb::concurrent_unordered_map<std::uint64_t, double>;
 // block's overran kMaxLeafLinks with one room for both, and its gather then did not retrace).
 struct HiddenRoom {
   std::atomic<std::int64_t> elements{0}, clustered{0};
-  // By default: bright pairs of leaves found hidden (Refiner::keeps_bright_hidden), which the final
-  // gather traces again (LeafGather::sort_hidden_pairs).
+  // By default: bright pairs of leaves found hidden (Refiner::keeps_bright_hidden), whose visible
+  // part the final gather evaluates exactly (LeafGather::own_hidden).
   std::atomic<std::int64_t> bright_leaves{0};
 };
 
