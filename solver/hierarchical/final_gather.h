@@ -32,7 +32,7 @@
 // whose transfer B_s F exceeds the oracle's budget ε is evaluated exactly instead, as below, where
 // its rays disagreed or all arrived (bright, own_exact): 16 clear rays may pass beside an occluder's
 // edge, and a leaf's links from one emitter share its shadow and err alike (the direct light of the
-// lit sphere room: 0.142 % rms off an exact integration with rays, 0.096 % so). Where their
+// lit sphere room: 0.142 % rms off an exact integration by rays, 0.096 % evaluated so). Where their
 // leaf links would pass the budget, those links stay as they are, before the proven ones do; so do
 // the element links whose receiver holds a leaking or enclosed leaf (leaks_below_). With `retrace`
 // (the scene's solver.exact_visibility), every link is expanded, those found hidden too
@@ -210,10 +210,11 @@ class LeafGather {
   // Whether leaf e gathers h_.hidden_links[index], a bright pair that the refiner's 16 rays found
   // hidden, by its exact visible part: by default, every one the refiner kept
   // (Refiner::keeps_bright_hidden); with retrace, the crowded bright ones, which the exact pass
-  // leaves out (sources_of_hidden). Such a pair may see its source past an occluder's edge: the 48
-  // further rays that once chose which to evaluate all missed some that a floor leaf under a panel
-  // sees in part, one-signed (the lit sphere room's direct light 0.096 % rms off an exact integration
-  // with them, 0.060 % without; docs/BENCHMARKS.md).
+  // leaves out (sources_of_hidden). Such a pair may see its source past an occluder's edge where all
+  // 64 of its samples are blocked: a floor leaf under a panel sees three of the panel's leaves in
+  // part so, and dropping such pairs errs one way (the lit sphere room's direct light: 0.096 % rms
+  // off an exact integration where the pair's 48 further rays decided, 0.060 % evaluated exactly;
+  // docs/BENCHMARKS.md).
   bool own_hidden(int e, std::size_t index) const;
   // By default (and for a crowded link with retrace), whether leaf e's link from `source`, of factor
   // F, whose rays disagreed or all arrived, is evaluated exactly rather than by the leaf's own rays
