@@ -122,8 +122,12 @@ const BlackRoom& ball_under_panel(bool exact) {
     const std::vector<Triangle> ball = test::icosphere({2, 2, 1.2}, 0.5, 2);
     return solve_black_room(room, panel, ball, [](const Point3& c) { return c.z <= 1e-9; }, exact_visibility);
   };
-  static const BlackRoom by_default = solve(false), with_exact = solve(true);
-  return exact ? with_exact : by_default;
+  if (exact) {
+    static const BlackRoom with_exact = solve(true);
+    return with_exact;
+  }
+  static const BlackRoom by_default = solve(false);
+  return by_default;
 }
 
 TEST(LeafGather, ALeafsBrightLinksInAPenumbraAreEvaluatedExactly) {
