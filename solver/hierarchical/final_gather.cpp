@@ -262,11 +262,9 @@ bool LeafGather::own_hidden(int e, std::size_t index) const {
 
 bool LeafGather::own_exact(const Link& l, std::size_t index, int receiver) const {
   const LinkVisibility v = l.visibility();
-  return (!retrace_ || keeps_rays(index)) && partly_hidden_ && !l.from_cluster &&
-         (v == LinkVisibility::Unknown || v == LinkVisibility::RaysUnanimous) &&
-         h_.elements[receiver].leaf >= 0 && !leaks_below_[receiver] &&
-         oracle_.element_B[static_cast<std::size_t>(l.source)] * l.mean_factor() > oracle_.epsilon &&
-         !clear(receiver, l.source);
+  return (!retrace_ || keeps_rays(index)) && !l.from_cluster &&
+         (v == LinkVisibility::Unknown || v == LinkVisibility::RaysUnanimous) && h_.elements[receiver].leaf >= 0 &&
+         bright(receiver, l.source, l.mean_factor()) && !clear(receiver, l.source);
 }
 
 void LeafGather::gather_block(std::size_t r, std::vector<Link>& out, LeafGatherStats& stats) const {

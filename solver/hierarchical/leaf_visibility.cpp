@@ -46,8 +46,9 @@ void LeafGather::form_links(int e, const std::vector<Entry>& entries, const std:
     // Rays that all arrived are trusted, except for a bright link: its 16 clear rays leave room for an
     // occluder's edge that hides more than the budget (a floor leaf at a ball's penumbra, under a panel).
     const bool trusted = entry.verdict == LinkVisibility::RaysTrusted || (!retrace_ && rays_unanimous(entry.verdict));
-    const bool visible = proven || (trusted && !bright(e, entry.source, F));
-    const bool exact = !visible && (entry.exact || bright(e, entry.source, F));
+    const bool is_bright = bright(e, entry.source, F);
+    const bool visible = proven || (trusted && !is_bright);
+    const bool exact = !visible && (entry.exact || is_bright);
     if (exact && rule_factors) {  // kept for the exact pass, which needs the same factors
       f_row = static_cast<int>(pending.f.size() / size);
       pending.f.insert(pending.f.end(), f.begin(), f.end());
