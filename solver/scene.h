@@ -238,6 +238,10 @@ struct SolverOptions {
   // Hierarchical only, not part of the scene format: the final gather at the leaves can be turned off
   // to measure what it does (tests, benchmarks).
   bool leaf_gather = true;
+  // Hierarchical only, not part of the scene format: the final gather's budget of leaf links, where
+  // not 0 (otherwise its own, solver/hierarchical/final_gather.h), to measure what a gather that
+  // does not fit does (tests).
+  std::size_t leaf_link_budget = 0;
 };
 
 struct OutputOptions {

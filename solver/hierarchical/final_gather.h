@@ -51,7 +51,8 @@
 // rule in place of leaf_rule's pieces 1.7e-4. Retrace costs about 1.6 × the time there.
 //
 // Memory and time grow with the leaf links, about 10 per expanded link in the rooms of
-// docs/BENCHMARKS.md; a scene whose leaf links would exceed the budget keeps its links.
+// docs/BENCHMARKS.md; a scene whose leaf links would exceed the budget keeps more of its links, down
+// to those into receivers above a cap on their leaves (fits()).
 #pragma once
 
 #include <cstddef>
@@ -119,7 +120,9 @@ class LeafGather {
   // Whether there are leaf links to form, at most `budget` of them; where there would be more, the
   // links found partly hidden and the unproven links into clusters stay as they are, then the links
   // into clusters proven visible only as a whole keep their estimates, and then the hidden links
-  // from and into clusters are left out. Prepares run().
+  // from and into clusters are left out. Where even those would pass the budget (a furnished room
+  // of 107 000 patches needs 183 M against 32 M), every kind expands again, but only into the
+  // receivers with at most a number of leaves below (cap_receivers). Prepares run().
   bool fits(std::size_t budget);
 
   // Replaces the links that expand by leaf links (see above); the others stay. The links that expand
@@ -190,7 +193,13 @@ class LeafGather {
   bool expands(std::size_t index, bool proven) const;
   // Marks the links into clusters that expand (cluster_link_expands_; see expands).
   void mark_cluster_links(bool proven);
-  std::size_t cluster_leaves(int c) const;
+  // With retrace, whether hidden link h_.hidden_cluster_links[index] into a cluster expands.
+  bool hidden_cluster_expands(std::size_t index) const {
+    return !crowded_.hidden_cluster[index] && cluster_leaves_[h_.hidden_cluster_links[index].receiver] <= max_leaves_;
+  }
+  // Where even the links fits() keeps to the last would pass the budget: the largest cap on the leaves
+  // of a receiver (max_leaves_) at which the leaf links of every kind fit; returns their count.
+  std::size_t cap_receivers(std::size_t budget);
 
   // Whether link l at `receiver` is replaced by leaf links: it expands, unless it is a leaf's own
   // element link, which is a leaf link already (the refiner gave it the exact mean over the leaf) —
@@ -299,9 +308,14 @@ class LeafGather {
   // fits().
   bool partly_hidden_ = true;
   bool clustered_hidden_ = true;  // the hidden links from and into clusters are expanded (fits())
+  // Links expand only into receivers (elements and clusters) with at most this many leaves below
+  // (cap_receivers): a scene too large to expand every link keeps its estimates on the coarse
+  // receivers, whose links are the far and weak ones, and expands those nearest the leaves.
+  std::size_t max_leaves_ = SIZE_MAX;
   AreaFactorOptions near_field_;
   OracleBudget oracle_;
   std::vector<std::size_t> leaves_below_;     // per element
+  std::vector<std::size_t> cluster_leaves_;   // per cluster: the leaves below its roots
   // Per element: some leaf below is Leaking or Enclosed. Its links found partly hidden stay as they
   // are: its gathered flux is spread over its open part (ElementForest::open_spread), and a leaking
   // leaf's row is held at 1 only while its links gather a whole hemisphere (closure.h), conventions

@@ -245,7 +245,10 @@ void HierarchicalOperator::gather_at_leaves(const OracleRadiosity& oracle, const
   LeafGather gather(h_, *shafts_, *planes_, *vis_, inputs_, hemisphere_, retrace, near_field,
                     {values.element_B, oracle_epsilon(oracle)});
   const std::size_t N = patches_.size();
-  const std::size_t budget = std::min(std::max(kLeafLinksPerLink * h_.links.size(), kLeafLinksPerPatch * N), kMaxLeafLinks);
+  const std::size_t budget =
+      scene_.solver.leaf_link_budget > 0
+          ? scene_.solver.leaf_link_budget
+          : std::min(std::max(kLeafLinksPerLink * h_.links.size(), kLeafLinksPerPatch * N), kMaxLeafLinks);
   if (!scene_.solver.leaf_gather || (retrace && !h_.hidden_complete) || !gather.fits(budget)) {
     release(h_.hidden_links);  // kept for the gather only (LeafGather::run frees them too)
     release(h_.hidden_cluster_links);
