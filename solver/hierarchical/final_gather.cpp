@@ -58,7 +58,9 @@ bool LeafGather::fits(std::size_t budget) {
   if (retrace_) mark_crowded_links();
   mark_cluster_links(true);
   std::size_t n = count();
-  if (n > budget && partly_hidden_) {  // the links found partly hidden (and, by default, into clusters) stay
+  if (n <= budget) return n > 0;
+  if (cap_certain(budget)) return true;
+  if (partly_hidden_) {  // the links found partly hidden (and, by default, into clusters) stay
     partly_hidden_ = false;
     mark_cluster_links(true);
     n = count();
@@ -73,6 +75,24 @@ bool LeafGather::fits(std::size_t budget) {
   }
   if (n > budget) n = cap_receivers(budget);
   return n > 0 && n <= budget;
+}
+
+bool LeafGather::cap_certain(std::size_t budget) {
+  max_certain_leaves_ = 0;
+  if (count() > budget / kUncertainShare) {
+    max_certain_leaves_ = SIZE_MAX;
+    return false;
+  }
+  std::size_t fits = 0, over = h_.elements.size() + 1;  // the count falls with the cap: bisection
+  while (over - fits > 1) {
+    max_certain_leaves_ = fits + (over - fits) / 2;
+    if (count() <= budget) fits = max_certain_leaves_;
+    else over = max_certain_leaves_;
+  }
+  max_certain_leaves_ = fits;
+  if (count() > 0) return true;
+  max_certain_leaves_ = SIZE_MAX;
+  return false;
 }
 
 std::size_t LeafGather::cap_receivers(std::size_t budget) {
@@ -267,9 +287,17 @@ bool LeafGather::expands(std::size_t index, bool proven) const {
 
 bool LeafGather::expanded(const Link& l, std::size_t index, int receiver) const {
   if (leaves_below_[receiver] > max_leaves_ || sources_of(l, index, receiver) == 0) return false;
-  if (h_.elements[receiver].leaf < 0 || l.from_cluster) return true;
+  if (h_.elements[receiver].leaf < 0 || l.from_cluster)
+    return leaves_below_[receiver] <= max_certain_leaves_ || !certain(l, index, receiver);
   if (!retrace_ || keeps_rays(index)) return own_exact(l, index, receiver);
   return l.visibility() != LinkVisibility::ShaftClear && !clear(receiver, l.source);
+}
+
+bool LeafGather::certain(const Link& l, std::size_t index, int receiver) const {
+  if (retrace_ && !keeps_rays(index)) return false;  // evaluated exactly at each leaf
+  if (l.from_cluster) return true;  // (by default expanded only where every root is clear: sources_of)
+  const LinkVisibility v = l.visibility();
+  return v == LinkVisibility::ShaftClear || rays_unanimous(v) || clear(receiver, l.source);
 }
 
 bool LeafGather::own_hidden(int e, std::size_t index) const {

@@ -92,6 +92,13 @@ inline constexpr std::size_t kLeafLinksPerLink = 24;
 inline constexpr std::size_t kLeafLinksPerPatch = 1000;
 inline constexpr std::size_t kMaxLeafLinks = 32'000'000;
 inline constexpr std::size_t kMaxCheckedPairs = 1 << 16;     // root pairs a link into a cluster may check
+// The links whose visibility is uncertain are the gather's costly ones (their leaves' own rays and
+// exact evaluations): where they alone would take more than 1/kUncertainShare of the budget, the
+// certain links do not make room for them (LeafGather::fits). The medium lit room of
+// docs/BENCHMARKS.md (248 000 patches, 537 M leaf links with every kind, nearly all uncertain) took
+// more than 17 minutes with 32 M of them, capped, instead of 175 s; the furnished room of 34 000
+// patches, 6 M of 34 M, took 25 s instead of 20 s.
+inline constexpr std::size_t kUncertainShare = 2;
 
 struct LeafGatherStats {
   std::size_t leaf_links = 0;  // links formed at the leaves
@@ -117,12 +124,17 @@ class LeafGather {
              std::span<const Triangle> inputs, std::span<const Hemisphere> hemispheres, bool retrace,
              const AreaFactorOptions& near_field, OracleBudget oracle);
 
-  // Whether there are leaf links to form, at most `budget` of them; where there would be more, the
-  // links found partly hidden and the unproven links into clusters stay as they are, then the links
-  // into clusters proven visible only as a whole keep their estimates, and then the hidden links
-  // from and into clusters are left out. Where even those would pass the budget (a furnished room
-  // of 107 000 patches needs 183 M against 32 M), every kind expands again, but only into the
-  // receivers with at most a number of leaves below (cap_receivers). Prepares run().
+  // Whether there are leaf links to form, at most `budget` of them. Where there would be more, the
+  // element links whose visibility is certain expand only into receivers with at most a number of
+  // leaves below (cap_certain), if the uncertain ones are few enough (kUncertainShare): those
+  // correct shadows, the certain ones only an estimate's shape within ε (a furnished room of
+  // 34 000 patches, 34 M leaf links, 6 M of them uncertain: without these, floor patches beside a
+  // stool read 10 % high on the mean, 60 % at worst; docs/BENCHMARKS.md). Otherwise the links found partly hidden and the
+  // unproven links into clusters stay as they are, then the links into clusters proven visible
+  // only as a whole keep their estimates, and then the hidden links from and into clusters are left
+  // out. Where even those would pass the budget (a furnished room of 107 000 patches needs 183 M
+  // against 32 M), every kind expands again, but only into the receivers with at most a number of
+  // leaves below (cap_receivers). Prepares run().
   bool fits(std::size_t budget);
 
   // Replaces the links that expand by leaf links (see above); the others stay. The links that expand
@@ -200,6 +212,15 @@ class LeafGather {
   // Where even the links fits() keeps to the last would pass the budget: the largest cap on the leaves
   // of a receiver (max_leaves_) at which the leaf links of every kind fit; returns their count.
   std::size_t cap_receivers(std::size_t budget);
+  // Where the links whose visibility is uncertain (certain()) would take at most 1/kUncertainShare
+  // of the budget by themselves: the largest cap on the leaves of the receivers of the others
+  // (max_certain_leaves_) at which all fit. Returns whether it set one.
+  bool cap_certain(std::size_t budget);
+  // Whether link l at `receiver`, which expands, is one whose visibility holds for every leaf below
+  // (its shaft proven clear, its rays unanimous, or the occluder planes clear the pair), so that its
+  // leaf links correct only the estimate's shape over the receiver, within the oracle's budget ε.
+  // The others' leaves trace their own rays or are evaluated exactly, and correct shadows.
+  bool certain(const Link& l, std::size_t index, int receiver) const;
 
   // Whether link l at `receiver` is replaced by leaf links: it expands, unless it is a leaf's own
   // element link, which is a leaf link already (the refiner gave it the exact mean over the leaf) —
@@ -312,6 +333,8 @@ class LeafGather {
   // (cap_receivers): a scene too large to expand every link keeps its estimates on the coarse
   // receivers, whose links are the far and weak ones, and expands those nearest the leaves.
   std::size_t max_leaves_ = SIZE_MAX;
+  // The same for the element links whose visibility is certain (cap_certain), the first to stay.
+  std::size_t max_certain_leaves_ = SIZE_MAX;
   AreaFactorOptions near_field_;
   OracleBudget oracle_;
   std::vector<std::size_t> leaves_below_;     // per element
