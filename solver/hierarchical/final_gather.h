@@ -129,12 +129,12 @@ class LeafGather {
   // leaves below (cap_certain), if the uncertain ones are few enough (kUncertainShare): those
   // correct shadows, the certain ones only an estimate's shape within ε (a furnished room of
   // 34 000 patches, 34 M leaf links, 6 M of them uncertain: without these, floor patches beside a
-  // stool read 10 % high on the mean, 60 % at worst; docs/BENCHMARKS.md). Otherwise the links found partly hidden and the
-  // unproven links into clusters stay as they are, then the links into clusters proven visible
-  // only as a whole keep their estimates, and then the hidden links from and into clusters are left
-  // out. Where even those would pass the budget (a furnished room of 107 000 patches needs 183 M
-  // against 32 M), every kind expands again, but only into the receivers with at most a number of
-  // leaves below (cap_receivers). Prepares run().
+  // stool read 10 % high on the mean, 60 % at worst; docs/BENCHMARKS.md). Otherwise the links found
+  // partly hidden and the unproven links into clusters stay as they are, then the links into
+  // clusters proven visible only as a whole keep their estimates, and then the hidden links from and
+  // into clusters are left out. Where even those would pass the budget (a furnished room of
+  // 107 000 patches needs 183 M against 32 M), every kind expands again, but only into the receivers
+  // with at most a number of leaves below (cap_receivers). Prepares run().
   bool fits(std::size_t budget);
 
   // Replaces the links that expand by leaf links (see above); the others stay. The links that expand
@@ -209,8 +209,9 @@ class LeafGather {
   bool hidden_cluster_expands(std::size_t index) const {
     return !crowded_.hidden_cluster[index] && cluster_leaves_[h_.hidden_cluster_links[index].receiver] <= max_leaves_;
   }
-  // Where even the links fits() keeps to the last would pass the budget: the largest cap on the leaves
-  // of a receiver (max_leaves_) at which the leaf links of every kind fit; returns their count.
+  // Where even the links fits() keeps to the last would pass the budget: the largest cap on the
+  // leaves of a receiver (max_leaves_) at which the leaf links of every kind fit; returns their
+  // count (0 where not even the leaves' own links fit).
   std::size_t cap_receivers(std::size_t budget);
   // Where the links whose visibility is uncertain (certain()) would take at most 1/kUncertainShare
   // of the budget by themselves: the largest cap on the leaves of the receivers of the others
