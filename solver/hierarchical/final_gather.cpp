@@ -83,14 +83,7 @@ bool LeafGather::cap_certain(std::size_t budget) {
     max_certain_leaves_ = SIZE_MAX;
     return false;
   }
-  std::size_t fits = 0, over = h_.elements.size() + 1;  // the count falls with the cap: bisection
-  while (over - fits > 1) {
-    max_certain_leaves_ = fits + (over - fits) / 2;
-    if (count() <= budget) fits = max_certain_leaves_;
-    else over = max_certain_leaves_;
-  }
-  max_certain_leaves_ = fits;
-  if (count() > 0) return true;
+  if (largest_cap(max_certain_leaves_, budget, false) > 0) return true;
   max_certain_leaves_ = SIZE_MAX;
   return false;
 }
@@ -100,19 +93,24 @@ std::size_t LeafGather::cap_receivers(std::size_t budget) {
   // bright links, evaluated exactly, are most of what the gather corrects where a shadow falls (the
   // ball under a panel in tests/leaf_gather_test.cpp: 0.11 % rms of the floor's E with a 27th of
   // the leaf links, 0.09 % with all, 0.31 % with none, and 0.31 % at half the budget with only the
-  // links fits() keeps to the last). The count falls with the cap, so the largest cap that fits is
-  // found by bisection.
+  // links fits() keeps to the last).
   partly_hidden_ = clustered_hidden_ = true;
+  return largest_cap(max_leaves_, budget, true);
+}
+
+std::size_t LeafGather::largest_cap(std::size_t& cap, std::size_t budget, bool cluster_links) {
+  const auto counted = [&] {
+    if (cluster_links) mark_cluster_links(true);
+    return count();
+  };
   std::size_t fits = 0, over = h_.elements.size() + 1;
   while (over - fits > 1) {
-    max_leaves_ = fits + (over - fits) / 2;
-    mark_cluster_links(true);
-    if (count() <= budget) fits = max_leaves_;
-    else over = max_leaves_;
+    cap = fits + (over - fits) / 2;
+    if (counted() <= budget) fits = cap;
+    else over = cap;
   }
-  max_leaves_ = fits;
-  mark_cluster_links(true);
-  return count();
+  cap = fits;
+  return counted();
 }
 
 LeafGatherStats LeafGather::run(const SolveControl& control) {

@@ -217,6 +217,10 @@ class LeafGather {
   // of the budget by themselves: the largest cap on the leaves of the receivers of the others
   // (max_certain_leaves_) at which all fit. Returns whether it set one.
   bool cap_certain(std::size_t budget);
+  // Sets `cap` (max_leaves_ or max_certain_leaves_) to the largest value in [0, elements] at which
+  // the leaf links fit the budget, by bisection (their count falls with the cap), and returns their
+  // count there; `cluster_links`: the cap bounds the links into clusters, marked again at each.
+  std::size_t largest_cap(std::size_t& cap, std::size_t budget, bool cluster_links);
   // Whether link l at `receiver`, which expands, is one whose visibility holds for every leaf below
   // (its shaft proven clear, its rays unanimous, or the occluder planes clear the pair), so that its
   // leaf links correct only the estimate's shape over the receiver, within the oracle's budget ε.
