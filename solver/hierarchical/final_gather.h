@@ -52,7 +52,7 @@
 //
 // Memory and time grow with the leaf links, about 10 per expanded link in the rooms of
 // docs/BENCHMARKS.md; a scene whose leaf links would exceed the budget keeps more of its links, down
-// to those into receivers above a cap on their leaves (fits()).
+// to expanding only into the receivers where that gains most per leaf link (fits()).
 #pragma once
 
 #include <cstddef>
@@ -108,10 +108,11 @@ struct LeafGatherStats {
 };
 
 
-// What the refinement's oracle weighed links with (refiner.h): the radiosity per element and the
-// budget ε per link.
+// What the refinement's oracle weighed links with (refiner.h): the radiosity per element and per
+// cluster (its largest leaf's), and the budget ε per link.
 struct OracleBudget {
   std::span<const double> element_B;
+  std::span<const double> cluster_B;
   double epsilon = 0;
 };
 
@@ -134,7 +135,7 @@ class LeafGather {
   // clusters proven visible only as a whole keep their estimates, and then the hidden links from and
   // into clusters are left out. Where even those would pass the budget (a furnished room of
   // 107 000 patches needs 183 M against 32 M), every kind expands again, but only into the receivers
-  // with at most a number of leaves below (cap_receivers). Prepares run().
+  // that gain most per leaf link (cap_receivers). Prepares run().
   bool fits(std::size_t budget);
 
   // Replaces the links that expand by leaf links (see above); the others stay. The links that expand
@@ -207,17 +208,33 @@ class LeafGather {
   void mark_cluster_links(bool proven);
   // With retrace, whether hidden link h_.hidden_cluster_links[index] into a cluster expands.
   bool hidden_cluster_expands(std::size_t index) const {
-    return !crowded_.hidden_cluster[index] && cluster_leaves_[h_.hidden_cluster_links[index].receiver] <= max_leaves_;
+    return !crowded_.hidden_cluster[index] && cluster_ranked(h_.hidden_cluster_links[index].receiver);
   }
-  // Where even the links fits() keeps to the last would pass the budget: the largest cap on the
-  // leaves of a receiver (max_leaves_) at which the leaf links of every kind fit; returns their
-  // count (0 where not even the leaves' own links fit).
+  // Where even the links fits() keeps to the last would pass the budget: ranks the receivers
+  // (rank_receivers) and sets the largest max_rank_ at which the leaf links of every kind fit;
+  // returns their count (0 where not even the first receiver's fit).
   std::size_t cap_receivers(std::size_t budget);
+  // Ranks the receivers, elements and clusters together, by what expanding a receiver's links gains
+  // per leaf link. A link's error bound over its receiver is B_s × error_per_B (the oracle's), plus
+  // its transfer B_s F where only rays estimated its visibility (not certain()): its shadow may be
+  // off by that much, which the oracle's bound of a link between two leaves leaves out (the ball
+  // under a panel read 0.32 % rms without it, as with no gather; tests/leaf_gather_test.cpp). A
+  // leaf's bound is the sum of those of the links into it and every element above it: where many links
+  // within ε each share a sign (a floor beside a box, under the box's near field), that sum is what
+  // the leaf errs by. Expanding receiver r's links takes their bound b_r off each of its n_r leaves,
+  // and the leaves' summed squared bounds fall by about 2 b_r Σ_leaves (bound), for n_r × m_r leaf
+  // links (m_r: the element sources its links expand to). So r ranks by b_r × Σ_leaves (bound) /
+  // (n_r m_r). In a furnished room of 107 000 patches this spends the 32 M leaf links where the
+  // stool stands on the floor: floor patches beside it 6.4 % rms (78 % worst) off the gather of all
+  // 222 M with the smallest receivers first, 0.15 % (1.9 %) so (docs/BENCHMARKS.md).
+  void rank_receivers();
+  bool ranked(int e) const { return max_rank_ == SIZE_MAX || rank_[e] <= max_rank_; }
+  bool cluster_ranked(int c) const { return max_rank_ == SIZE_MAX || cluster_rank_[c] <= max_rank_; }
   // Where the links whose visibility is uncertain (certain()) would take at most 1/kUncertainShare
   // of the budget by themselves: the largest cap on the leaves of the receivers of the others
   // (max_certain_leaves_) at which all fit. Returns whether it set one.
   bool cap_certain(std::size_t budget);
-  // Sets `cap` (max_leaves_ or max_certain_leaves_) to the largest value in [0, elements] at which
+  // Sets `cap` (max_rank_ or max_certain_leaves_) to the largest value in [0, receivers] at which
   // the leaf links fit the budget, by bisection (their count falls with the cap), and returns their
   // count there; `cluster_links`: the cap bounds the links into clusters, marked again at each.
   std::size_t largest_cap(std::size_t& cap, std::size_t budget, bool cluster_links);
@@ -334,10 +351,11 @@ class LeafGather {
   // fits().
   bool partly_hidden_ = true;
   bool clustered_hidden_ = true;  // the hidden links from and into clusters are expanded (fits())
-  // Links expand only into receivers (elements and clusters) with at most this many leaves below
-  // (cap_receivers): a scene too large to expand every link keeps its estimates on the coarse
-  // receivers, whose links are the far and weak ones, and expands those nearest the leaves.
-  std::size_t max_leaves_ = SIZE_MAX;
+  // Links expand only into receivers (elements and clusters) ranked at most this (cap_receivers): a
+  // scene too large to expand every link keeps its estimates where they err least.
+  std::size_t max_rank_ = SIZE_MAX;
+  std::vector<std::size_t> rank_;          // per element, from 1 (rank_receivers)
+  std::vector<std::size_t> cluster_rank_;  // per cluster
   // The same for the element links whose visibility is certain (cap_certain), the first to stay.
   std::size_t max_certain_leaves_ = SIZE_MAX;
   AreaFactorOptions near_field_;

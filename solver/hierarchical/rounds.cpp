@@ -243,7 +243,7 @@ void HierarchicalOperator::gather_at_leaves(const OracleRadiosity& oracle, const
   near_field.abs_tolerance = std::max(near_field.abs_tolerance, 1e-3 * accuracy);
   const OracleValues values = oracle_values(h_, oracle.leaf_B);
   LeafGather gather(h_, *shafts_, *planes_, *vis_, inputs_, hemisphere_, retrace, near_field,
-                    {values.element_B, oracle_epsilon(oracle)});
+                    {values.element_B, values.cluster_B, oracle_epsilon(oracle)});
   const std::size_t N = patches_.size();
   const std::size_t budget =
       scene_.solver.leaf_link_budget > 0
