@@ -55,6 +55,17 @@ ErrorOfE error_of_E(const Solution& sol, On on, const std::vector<Triangle>& emi
   return out;
 }
 
+// Moves out of `room` the triangles of its face where coordinate(p) = 0 at every vertex.
+template <class Coordinate>
+std::vector<Triangle> take_face(std::vector<Triangle>& room, Coordinate coordinate) {
+  const auto face = std::stable_partition(room.begin(), room.end(), [&](const Triangle& t) {
+    return std::max({coordinate(t.v[0]), coordinate(t.v[1]), coordinate(t.v[2])}) != 0;
+  });
+  std::vector<Triangle> out(face, room.end());
+  room.erase(face, room.end());
+  return out;
+}
+
 // A black room with `emitter` (M = 1) and `occluder` in it, solved by the hierarchical method at
 // 0.03 m² patches (with solver.exact_visibility where `exact`, and at most `leaf_links` leaf links
 // where not 0), and the error of E over the room's patches that `on` selects.
@@ -94,15 +105,7 @@ TEST(LeafGather, LinksFoundPartlyHiddenAreSharedByTheLeavesOwnRays) {
   // pairs found hidden evaluated exactly (the test below), by 0.82 % and 3.5 %: some of those pairs
   // see the emitter through strips a few degrees wide.
   std::vector<Triangle> room = box({0, 0, 0}, {6, 4, 3}, true);
-  std::vector<Triangle> emitter;
-  for (auto it = room.begin(); it != room.end();) {  // the wall x = 0 on its own
-    if (std::max({it->v[0].x, it->v[1].x, it->v[2].x}) == 0) {
-      emitter.push_back(*it);
-      it = room.erase(it);
-    } else {
-      ++it;
-    }
-  }
+  const std::vector<Triangle> emitter = take_face(room, [](const Point3& p) { return p.x; });  // the wall x = 0
   ASSERT_EQ(emitter.size(), 2u);
   const std::vector<Triangle> beam = box({1, 0, 0.6}, {5, 3.6, 2.4}, false);
   const ErrorOfE wall = solve_black_room(room, emitter, beam, [](const Point3& c) { return c.x >= 6 - 1e-9; }).error;
@@ -235,15 +238,8 @@ TEST(LeafGather, AGatherFarPastItsBudgetExpandsWhereTheLinksErrTogether) {
   // receiver did not fit).
   SceneBuilder b;
   const int grey = b.material("grey", 0.5), floor_grey = b.material("floor", 0.3);
-  std::vector<Triangle> room = box({0, 0, 0}, {6, 4, 3}, true), floor;
-  for (auto it = room.begin(); it != room.end();) {
-    if (std::max({it->v[0].z, it->v[1].z, it->v[2].z}) == 0) {
-      floor.push_back(*it);
-      it = room.erase(it);
-    } else {
-      ++it;
-    }
-  }
+  std::vector<Triangle> room = box({0, 0, 0}, {6, 4, 3}, true);
+  const std::vector<Triangle> floor = take_face(room, [](const Point3& p) { return p.z; });
   ASSERT_EQ(floor.size(), 2u);
   b.surface("floor", floor_grey, floor);
   b.surface("walls-ceiling", grey, room);
