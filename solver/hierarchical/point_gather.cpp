@@ -49,15 +49,6 @@ HierarchicalPointGather::HierarchicalPointGather(const Hierarchy& h, const Plane
   tolerance_ = area > 0 ? 0.1 * accuracy * power / area : 0;
 }
 
-double HierarchicalPointGather::element_visibility(const Receiver& r, const Point3& from,
-                                                   const OccluderPlanes::Sides& sides, int node) const {
-  if (planes_.point_sees(sides, node)) return 1.0;
-  const Element& S = h_.elements[node];
-  return weighted_visible_fraction(
-      vis_, [&](int j) { return std::pair{from, vis_.lift(visibility_sample(S.tri, j), S.normal)}; },
-      [&](const Point3&, const Point3& q) { return receiver_link_weight(r, q, S.normal); }, 16);
-}
-
 // An element is taken whole where its radiosity varies little (f × spread within the tolerance) and
 // it is wholly visible or hidden: the visible part of a partly hidden element need not have its mean
 // radiosity (a probe under a floating cube read 3 % high where partly hidden elements were taken
@@ -65,26 +56,58 @@ double HierarchicalPointGather::element_visibility(const Receiver& r, const Poin
 // whole share exceeds the tolerance is opened, since 16 agreeing rays can miss a shadow edge across
 // a small part of it (up to 2 % at floor sensors beside a table's shadow, docs/BENCHMARKS.md). A
 // leaf's partly hidden share is the exact factor of its visible part.
-void HierarchicalPointGather::visit_element(const Receiver& r, const Point3& from, const OccluderPlanes::Sides& sides,
-                                            int node, std::vector<int>& stack, double* E) const {
+void HierarchicalPointGather::visit_element(const Receiver& r, const OccluderPlanes::Sides& sides, int node,
+                                            std::vector<int>& stack, std::vector<Pending>& pending, double* E) const {
   const Element& S = h_.elements[node];
   const double f = receiver_triangle_factor(r, S.tri);  // the kernel the dense gather uses
   if (f <= 0) return;
   const bool splittable = S.first_child >= 0;
-  double v = -1;
-  if (splittable && f * (hi_[node] - lo_[node]) <= tolerance_) {
-    v = element_visibility(r, from, sides, node);
-    if (!planes_.point_sees(sides, node) && f * std::max(std::abs(lo_[node]), std::abs(hi_[node])) > tolerance_) v = -1;
-  } else if (!splittable) {
-    v = element_visibility(r, from, sides, node);
-  }
-  if (v < 0) {
+  const bool proven_visible = planes_.point_sees(sides, node);
+  // Opened before any ray is traced: where its radiosity varies too much, or where rays would have
+  // to decide and its whole share exceeds the tolerance.
+  if (splittable && (f * (hi_[node] - lo_[node]) > tolerance_ ||
+                     (!proven_visible && f * std::max(std::abs(lo_[node]), std::abs(hi_[node])) > tolerance_))) {
     for (int c = 0; c < 4; ++c) stack.push_back(S.first_child + c);
     return;
   }
-  const double visible = !splittable && v > 0 && v < 1 ? exact_visible_factor(r, S.tri, exact_) : f * v;
+  if (proven_visible) add(node, f, E);
+  else pending.push_back({node, f});
+}
+
+void HierarchicalPointGather::add(int node, double factor, double* E) const {
   const std::size_t K = values_.K;
-  for (std::size_t k = 0; k < K; ++k) E[k] += visible * values_.B[node * K + k];
+  for (std::size_t k = 0; k < K; ++k) E[k] += factor * values_.B[node * K + k];
+}
+
+void HierarchicalPointGather::trace_pending(const Receiver& r, const Point3& from, std::span<const Pending> pending,
+                                            double* E) const {
+  thread_local std::vector<double> fraction;
+  thread_local std::vector<char> early_hidden;
+  fraction.resize(pending.size());
+  early_hidden.resize(pending.size());
+  // An element whose whole share is within the tolerance is closed as hidden by 4 blocked rays, as a
+  // link within its budget is: a wrong verdict costs no more than the tolerance. (Unanimously visible
+  // rays still go on to 16.)
+  for (std::size_t l = 0; l < pending.size(); ++l) {
+    const int node = pending[l].node;
+    early_hidden[l] = pending[l].f * std::max(std::abs(lo_[node]), std::abs(hi_[node])) <= tolerance_;
+  }
+  weighted_visible_fractions(
+      vis_, pending.size(),
+      [&](std::size_t l, int k) {
+        const Element& S = h_.elements[pending[l].node];
+        return std::pair{from, vis_.lift(visibility_sample(S.tri, k), S.normal)};
+      },
+      [&](std::size_t l, const Point3&, const Point3& q) {
+        return receiver_link_weight(r, q, h_.elements[pending[l].node].normal);
+      },
+      fraction, kFirstRound, early_hidden);
+  for (std::size_t l = 0; l < pending.size(); ++l) {
+    const auto [node, f] = pending[l];
+    const Element& S = h_.elements[node];
+    const double v = fraction[l];
+    add(node, S.first_child < 0 && v > 0 && v < 1 ? exact_visible_factor(r, S.tri, exact_) : f * v, E);
+  }
 }
 
 void HierarchicalPointGather::visit_cluster(const Receiver& r, const Point3& from, const OccluderPlanes::Sides& sides,
@@ -145,13 +168,16 @@ void HierarchicalPointGather::gather_at_point(const Receiver& receiver, double* 
   const Point3 from = receiver.kind == Receiver::Kind::Planar ? vis_.lift(receiver.point, receiver.normal) : receiver.point;
   const OccluderPlanes::Sides sides = planes_.sides(receiver.point);
   thread_local std::vector<int> stack;  // −1 − c: cluster c; ≥ 0: element
+  thread_local std::vector<Pending> pending;
   stack.assign(h_.clusters.empty() ? 0 : 1, -1);
+  pending.clear();
   while (!stack.empty()) {
     const int node = stack.back();
     stack.pop_back();
-    if (node >= 0) visit_element(receiver, from, sides, node, stack, E);
+    if (node >= 0) visit_element(receiver, sides, node, stack, pending, E);
     else visit_cluster(receiver, from, sides, -1 - node, stack, E);
   }
+  trace_pending(receiver, from, pending, E);
 }
 
 }  // namespace lambert::hierarchical

@@ -10,6 +10,7 @@
 // solver.accuracy times the scene's mean radiosity per unit of projected solid angle.
 #pragma once
 
+#include <span>
 #include <vector>
 
 #include "solver/exact_visibility.h"
@@ -29,13 +30,23 @@ class HierarchicalPointGather final : public PointGather {
   void gather_at_point(const Receiver& receiver, double* E) const override;
 
  private:
-  // The visible fraction of element S (node `node`) from the receiver: 1 where the occluder planes
-  // say so; otherwise rays to the element's samples, 16 before the first vote (as for links: four
-  // unanimous rays to a coarse element miss small occluders).
-  double element_visibility(const Receiver& r, const Point3& from, const OccluderPlanes::Sides& sides, int node) const;
-  // Adds element `node`'s share to E, or pushes its children where it must be opened.
-  void visit_element(const Receiver& r, const Point3& from, const OccluderPlanes::Sides& sides, int node,
-                     std::vector<int>& stack, double* E) const;
+  // An element whose visibility rays decide, and its unoccluded factor f.
+  struct Pending {
+    int node;
+    double f;
+  };
+  // Rays to an element's samples, 16 before the first vote (as for links: four unanimous rays to a
+  // coarse element miss small occluders), but for an element within the tolerance found hidden by
+  // its first 4.
+  static constexpr int kFirstRound = 16;
+  // Adds element `node`'s share to E where the occluder planes prove it wholly visible, queues it for
+  // rays where they do not, or pushes its children where it must be opened.
+  void visit_element(const Receiver& r, const OccluderPlanes::Sides& sides, int node, std::vector<int>& stack,
+                     std::vector<Pending>& pending, double* E) const;
+  // The queued elements' rays, traced together as streams (weighted_visible_fractions), and their
+  // shares added to E: f times the visible fraction, or a partly hidden leaf's exact visible factor.
+  void trace_pending(const Receiver& r, const Point3& from, std::span<const Pending> pending, double* E) const;
+  void add(int node, double factor, double* E) const;  // factor × the element's radiosity
   // The same for cluster c.
   void visit_cluster(const Receiver& r, const Point3& from, const OccluderPlanes::Sides& sides, int c,
                      std::vector<int>& stack, double* E) const;
