@@ -37,13 +37,13 @@ HierarchicalPointGather::HierarchicalPointGather(const Hierarchy& h, const Plane
     if (el.parent >= 0) lo_[el.parent] = std::min(lo_[el.parent], lo_[e]), hi_[el.parent] = std::max(hi_[el.parent], hi_[e]);
   }
   std::vector<double> largest(N);  // per leaf, over the systems
-  for (std::size_t i = 0; i < N; ++i) largest[i] = std::max(std::abs(lo_[h.leaves[i]]), std::abs(hi_[h.leaves[i]]));
+  for (std::size_t i = 0; i < N; ++i) largest[i] = largest_B(h.leaves[i]);
   sending_ = cluster_sending(h, largest, cluster_B_);
   double power = 0, area = 0;
   for (std::size_t i = 0; i < N; ++i) {
     const int e = h.leaves[i];
     if (h.is_enclosed(e)) continue;  // enclosed: no part of what a probe can see
-    power += h.elements[e].area * std::max(std::abs(lo_[e]), std::abs(hi_[e]));
+    power += h.elements[e].area * largest_B(e);
     area += h.elements[e].area;
   }
   tolerance_ = area > 0 ? 0.1 * accuracy * power / area : 0;
@@ -66,7 +66,7 @@ void HierarchicalPointGather::visit_element(const Receiver& r, const OccluderPla
   // Opened before any ray is traced: where its radiosity varies too much, or where rays would have
   // to decide and its whole share exceeds the tolerance.
   if (splittable && (f * (hi_[node] - lo_[node]) > tolerance_ ||
-                     (!proven_visible && f * std::max(std::abs(lo_[node]), std::abs(hi_[node])) > tolerance_))) {
+                     (!proven_visible && f * largest_B(node) > tolerance_))) {
     for (int c = 0; c < 4; ++c) stack.push_back(S.first_child + c);
     return;
   }
@@ -88,10 +88,7 @@ void HierarchicalPointGather::trace_pending(const Receiver& r, const Point3& fro
   // An element whose whole share is within the tolerance is closed as hidden by 4 blocked rays, as a
   // link within its budget is: a wrong verdict costs no more than the tolerance. (Unanimously visible
   // rays still go on to 16.)
-  for (std::size_t l = 0; l < pending.size(); ++l) {
-    const int node = pending[l].node;
-    early_hidden[l] = pending[l].f * std::max(std::abs(lo_[node]), std::abs(hi_[node])) <= tolerance_;
-  }
+  for (std::size_t l = 0; l < pending.size(); ++l) early_hidden[l] = pending[l].f * largest_B(pending[l].node) <= tolerance_;
   weighted_visible_fractions(
       vis_, pending.size(),
       [&](std::size_t l, int k) {

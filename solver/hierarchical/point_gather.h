@@ -10,6 +10,8 @@
 // solver.accuracy times the scene's mean radiosity per unit of projected solid angle.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <span>
 #include <vector>
 
@@ -47,6 +49,8 @@ class HierarchicalPointGather final : public PointGather {
   // shares added to E: f times the visible fraction, or a partly hidden leaf's exact visible factor.
   void trace_pending(const Receiver& r, const Point3& from, std::span<const Pending> pending, double* E) const;
   void add(int node, double factor, double* E) const;  // factor × the element's radiosity
+  // The largest |B| of element e's subtree over the systems: what its whole share is weighed by.
+  double largest_B(int e) const { return std::max(std::abs(lo_[e]), std::abs(hi_[e])); }
   // The same for cluster c.
   void visit_cluster(const Receiver& r, const Point3& from, const OccluderPlanes::Sides& sides, int c,
                      std::vector<int>& stack, double* E) const;
