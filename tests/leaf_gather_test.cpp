@@ -6,6 +6,7 @@
 #include "solver/radiosity.h"
 
 #include <gtest/gtest.h>
+#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
@@ -25,28 +26,53 @@ using test::SceneBuilder;
 using test::solve_with;
 
 // Nothing reflects and the emitter's exitance is 1, so a patch's E is F, the exact visible factor to
-// `emitter` past `occluders`. The error over the patches of surface 0 that `on` selects: rms and
-// worst, as shares of their mean E.
-struct ErrorOfE {
-  int patches = 0;
-  double mean = 0, rms = 0, worst = 0;
+// `emitter` past `occluders`. ExactE holds it for the patches of surface 0 that `on` selects, in the
+// solution's order, with their centroids: solves of one scene at other settings share their mesh,
+// and so this reference, the costliest part of the tests below. The patches are evaluated in parallel.
+struct ExactE {
+  std::vector<std::size_t> patches;
+  std::vector<Point3> centroids;
+  std::vector<double> E;
 };
 template <class On>
-ErrorOfE error_of_E(const Solution& sol, On on, const std::vector<Triangle>& emitter,
-                    const std::vector<Triangle>& occluders) {
+ExactE exact_E(const Solution& sol, On on, const std::vector<Triangle>& emitter, const std::vector<Triangle>& occluders) {
   const ExactVisibility exact(occluders);
-  ErrorOfE out;
-  double sum2 = 0, worst = 0;
+  ExactE out;
   for (std::size_t i = 0; i < sol.patches.size(); ++i) {
     const Patch& p = sol.patches[i];
     if (p.surface != 0 || !on(p.triangle.centroid())) continue;
-    const double expected = test::patch_mean_by_parts(p, [&](const Point3& x) {
+    out.patches.push_back(i);
+    out.centroids.push_back(p.triangle.centroid());
+  }
+  out.E.resize(out.patches.size());
+  tbb::parallel_for(std::size_t{0}, out.patches.size(), [&](std::size_t k) {
+    const Patch& p = sol.patches[out.patches[k]];
+    out.E[k] = test::patch_mean_by_parts(p, [&](const Point3& x) {
       double F = 0;
       for (const Triangle& s : emitter) F += exact.visible_factor(x, p.normal, s);
       return F;
     });
-    const double e = sol.irradiance[i] - expected;
-    sum2 += e * e, worst = std::max(worst, std::abs(e)), out.mean += expected, ++out.patches;
+  });
+  return out;
+}
+
+// The error of a solution's E against `exact`, over its patches: rms and worst, as shares of their
+// mean E.
+struct ErrorOfE {
+  int patches = 0;
+  double mean = 0, rms = 0, worst = 0;
+};
+ErrorOfE error_of_E(const Solution& sol, const ExactE& exact) {
+  ErrorOfE out;
+  double sum2 = 0, worst = 0;
+  for (std::size_t k = 0; k < exact.patches.size(); ++k) {
+    const std::size_t i = exact.patches[k];
+    if (i >= sol.patches.size() || distance(sol.patches[i].triangle.centroid(), exact.centroids[k]) != 0) {
+      ADD_FAILURE() << "patch " << i << " is not the reference's";
+      return {};
+    }
+    const double e = sol.irradiance[i] - exact.E[k];
+    sum2 += e * e, worst = std::max(worst, std::abs(e)), out.mean += exact.E[k], ++out.patches;
   }
   if (out.patches == 0) return out;
   out.mean /= out.patches;
@@ -66,31 +92,28 @@ std::vector<Triangle> take_face(std::vector<Triangle>& room, Coordinate coordina
   return out;
 }
 
-// A black room with `emitter` (M = 1) and `occluder` in it, solved by the hierarchical method at
+// A black room with an emitter (M = 1) and an occluder in it, solved by the hierarchical method at
 // 0.03 m² patches (with solver.exact_visibility where `exact`, and at most `leaf_links` leaf links
-// where not 0), and the error of E over the room's patches that `on` selects.
-struct BlackRoom {
-  Solution solution;
-  ErrorOfE error;
+// where not 0).
+struct BlackRoomScene {
+  std::vector<Triangle> room, emitter, occluder;
+  std::vector<Triangle> occluders() const {  // for ExactVisibility
+    std::vector<Triangle> all = room;
+    all.insert(all.end(), occluder.begin(), occluder.end());
+    return all;
+  }
 };
-template <class On>
-BlackRoom solve_black_room(const std::vector<Triangle>& room, const std::vector<Triangle>& emitter,
-                           const std::vector<Triangle>& occluder, On on, bool exact = false,
-                           std::size_t leaf_links = 0) {
+Solution solve_black_room(const BlackRoomScene& room, bool exact = false, std::size_t leaf_links = 0) {
   SceneBuilder b;
   const int black = b.material("black", 0.0);
-  b.surface("room", black, room);
-  b.surface("emitter", black, emitter, 1.0);
-  b.surface("occluder", black, occluder);
+  b.surface("room", black, room.room);
+  b.surface("emitter", black, room.emitter, 1.0);
+  b.surface("occluder", black, room.occluder);
   b.max_patch_area(0.03);
   Scene scene = b.scene();
   scene.solver.exact_visibility = exact;
   scene.solver.leaf_link_budget = leaf_links;
-  BlackRoom out{solve_with(scene, SolverMethod::Hierarchical), {}};
-  std::vector<Triangle> occluders = room;
-  occluders.insert(occluders.end(), occluder.begin(), occluder.end());
-  out.error = error_of_E(out.solution, on, emitter, occluders);
-  return out;
+  return solve_with(scene, SolverMethod::Hierarchical);
 }
 
 TEST(LeafGather, LinksFoundPartlyHiddenAreSharedByTheLeavesOwnRays) {
@@ -108,7 +131,10 @@ TEST(LeafGather, LinksFoundPartlyHiddenAreSharedByTheLeavesOwnRays) {
   const std::vector<Triangle> emitter = take_face(room, [](const Point3& p) { return p.x; });  // the wall x = 0
   ASSERT_EQ(emitter.size(), 2u);
   const std::vector<Triangle> beam = box({1, 0, 0.6}, {5, 3.6, 2.4}, false);
-  const ErrorOfE wall = solve_black_room(room, emitter, beam, [](const Point3& c) { return c.x >= 6 - 1e-9; }).error;
+  const BlackRoomScene scene{room, emitter, beam};
+  const Solution sol = solve_black_room(scene);
+  const ErrorOfE wall =
+      error_of_E(sol, exact_E(sol, [](const Point3& c) { return c.x >= 6 - 1e-9; }, emitter, scene.occluders()));
   ASSERT_GT(wall.patches, 300);
   std::printf("wall x = 6, %d patches: mean E %.4g, error rms %.3g, worst %.3g of the mean\n", wall.patches, wall.mean,
               wall.rms, wall.worst);
@@ -117,16 +143,33 @@ TEST(LeafGather, LinksFoundPartlyHiddenAreSharedByTheLeavesOwnRays) {
 }
 
 // A black 4 × 4 × 3 m room, a 1 m² panel 5 cm under its ceiling emitting M = 1 downward, and a black
-// faceted ball of radius 0.5 m (320 faces) at (2, 2, 1.2) between them; solved once per visibility
-// mode and shared by the tests below. Nothing reflects, so a floor patch has E = M F, F the exact
-// visible factor to the panel.
-BlackRoom solve_ball_under_panel(bool exact_visibility, std::size_t leaf_links = 0) {
-  const std::vector<Triangle> room = box({0, 0, 0}, {4, 4, 3}, true);
-  const std::vector<Triangle> panel = rectangle({1.5, 1.5, 2.95}, {0, 1, 0}, {1, 0, 0});  // facing down
-  const std::vector<Triangle> ball = test::icosphere({2, 2, 1.2}, 0.5, 2);
-  return solve_black_room(room, panel, ball, [](const Point3& c) { return c.z <= 1e-9; }, exact_visibility,
-                          leaf_links);
+// faceted ball of radius 0.5 m (320 faces) at (2, 2, 1.2) between them. Nothing reflects, so a floor
+// patch has E = M F, F the exact visible factor to the panel. The tests of the BallUnderPanel suite
+// share its solves and its floor's exact E (ball_under_panel, ball_floor_E); CMake runs them in one
+// process (tests/CMakeLists.txt).
+BlackRoomScene ball_under_panel_scene() {
+  return {box({0, 0, 0}, {4, 4, 3}, true), rectangle({1.5, 1.5, 2.95}, {0, 1, 0}, {1, 0, 0}),  // the panel faces down
+          test::icosphere({2, 2, 1.2}, 0.5, 2)};
 }
+bool on_floor(const Point3& c) { return c.z <= 1e-9; }
+// The floor's exact E, computed once from the first solve's mesh (every solve of the scene has it).
+const ExactE& ball_floor_E(const Solution& first) {
+  static const ExactE E = [&] {
+    const BlackRoomScene scene = ball_under_panel_scene();
+    return exact_E(first, on_floor, scene.emitter, scene.occluders());
+  }();
+  return E;
+}
+struct BlackRoom {
+  Solution solution;
+  ErrorOfE error;  // of the floor's E
+};
+BlackRoom solve_ball_under_panel(bool exact_visibility, std::size_t leaf_links = 0) {
+  BlackRoom out{solve_black_room(ball_under_panel_scene(), exact_visibility, leaf_links), {}};
+  out.error = error_of_E(out.solution, ball_floor_E(out.solution));
+  return out;
+}
+// Solved once per visibility mode.
 const BlackRoom& ball_under_panel(bool exact) {
   const auto solve = [](bool exact_visibility) { return solve_ball_under_panel(exact_visibility); };
   if (exact) {
@@ -137,7 +180,7 @@ const BlackRoom& ball_under_panel(bool exact) {
   return by_default;
 }
 
-TEST(LeafGather, ALeafsBrightLinksInAPenumbraAreEvaluatedExactly) {
+TEST(BallUnderPanel, ALeafsBrightLinksInAPenumbraAreEvaluatedExactly) {
   // The ball under the panel above. A floor leaf in the ball's penumbra holds its own links to the
   // panel's leaves, which neither can be split further; 16 to 64 rays per link read their visible
   // parts several per cent off, all alike, since the links share one shadow. Those whose transfer
@@ -156,7 +199,7 @@ TEST(LeafGather, ALeafsBrightLinksInAPenumbraAreEvaluatedExactly) {
   EXPECT_LT(floor.worst, 0.012);
 }
 
-TEST(LeafGather, ExactVisibilityPastACrowdedBallIsNoWorseThanTheDefault) {
+TEST(BallUnderPanel, ExactVisibilityPastACrowdedBallIsNoWorseThanTheDefault) {
   // The ball under the panel above, with solver.exact_visibility. Its 320 faces crowd the box of every
   // pair whose shaft passes it (more than kExactOccluders, in a scene of more than kSmallScene
   // occluders), so those links keep their rays' estimate, as by default
@@ -177,7 +220,7 @@ TEST(LeafGather, ExactVisibilityPastACrowdedBallIsNoWorseThanTheDefault) {
   EXPECT_LT(exact.error.rms, 1.25 * by_default.error.rms);
 }
 
-TEST(LeafGather, AGatherPastItsBudgetStillEvaluatesTheLeavesBrightLinks) {
+TEST(BallUnderPanel, AGatherPastItsBudgetStillEvaluatesTheLeavesBrightLinks) {
   // The ball under the panel above, by default, with a sixteenth of the leaf links the gather forms
   // unbounded (the budget that kMaxLeafLinks sets a scene of 10⁵ patches and more). The gather then
   // expands only into the receivers that gain most per leaf link (LeafGather::rank_receivers), but
@@ -200,7 +243,7 @@ TEST(LeafGather, AGatherPastItsBudgetStillEvaluatesTheLeavesBrightLinks) {
   EXPECT_LT(capped.error.worst, 0.012);
 }
 
-TEST(LeafGather, AGatherJustPastItsBudgetKeepsTheLinksThatCorrectShadows) {
+TEST(BallUnderPanel, AGatherJustPastItsBudgetKeepsTheLinksThatCorrectShadows) {
   // The ball under the panel, by default, with nine tenths of the leaf links the gather forms
   // unbounded: the links whose visibility is uncertain fit within half of that, so the others
   // expand only into the receivers with at most a number of leaves below (LeafGather::cap_certain),
