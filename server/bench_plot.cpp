@@ -18,7 +18,7 @@ constexpr int kLegendSample = 36;          // the line-and-marker sample in fron
 constexpr std::size_t kMaxNameChars = 32;  // longer names are cut so the axes keep most of the width
 constexpr double kLineThickness = 2;
 
-constexpr Rgb kBlack{0, 0, 0}, kGrid{225, 225, 225}, kNote{90, 90, 90}, kWhite{255, 255, 255};
+constexpr Rgb kGrid{225, 225, 225}, kNote{90, 90, 90};
 
 bool plottable(const PlotPoint& p) { return std::isfinite(p.time_s) && std::isfinite(p.error) && p.time_s > 0; }
 

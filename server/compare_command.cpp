@@ -21,6 +21,7 @@
 #include "server/cli_progress.h"
 #include "solver/report.h"
 #include "solver/rgb_model.h"
+#include "solver/stopwatch.h"
 
 namespace lambert {
 namespace {
@@ -59,11 +60,6 @@ json lab_json(const Lab& c) { return json::array({c.L, c.a, c.b}); }
 
 json statistics_json(const Statistics& s) {
   return {{"count", s.count}, {"mean", s.mean}, {"median", s.median}, {"p95", s.p95}, {"max", s.max}};
-}
-
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
 }  // namespace

@@ -12,8 +12,8 @@
 namespace lambert {
 namespace {
 
-constexpr Rgb kWhite{255, 255, 255}, kBlack{0, 0, 0}, kDark{40, 40, 40};
-constexpr double kMargin = 24, kTitleHeight = 72, kFooterHeight = 56, kLegendGap = 24;
+constexpr Rgb kDark{40, 40, 40};
+constexpr double kMargin = 24, kTitleHeight = 72, kFooterHeight = 56, kMapLegendGap = 24;
 constexpr double kCellValueMin_px = 38;  // cells narrower than this show no number
 constexpr int kLegendTicks = 12;
 
@@ -77,7 +77,7 @@ void draw_contours(Canvas& canvas, const GridValues& g, const ColourScale& scale
 
 GridMapLayout grid_map_layout(const GridValues& g, const ColourScale& scale) {
   const double legend = legend_width(scale, map_legend_title(scale.kind), map_legend_style());
-  const double room_w = kGridMapWidth - 2 * kMargin - kLegendGap - legend;
+  const double room_w = kGridMapWidth - 2 * kMargin - kMapLegendGap - legend;
   const double room_h = kGridMapHeight - kTitleHeight - kFooterHeight;
   const double aspect = g.cell_v / g.cell_u;  // cell height over width
   GridMapLayout layout;
@@ -121,7 +121,7 @@ Image draw_grid_map(const GridValues& g, ScaleKind kind) {
   draw_contours(canvas, g, scale, layout);
   canvas.stroke_rect(layout.origin, {layout.origin.x + g.nu * layout.cell_w, layout.origin.y - g.nv * layout.cell_h}, kBlack, 1);
   canvas.text({kMargin, kGridMapHeight - 22.0}, summary(g), style(14, kBlack, HAlign::Left, VAlign::Baseline));
-  const double legend_right = layout.origin.x + g.nu * layout.cell_w + kLegendGap +
+  const double legend_right = layout.origin.x + g.nu * layout.cell_w + kMapLegendGap +
                               legend_width(scale, map_legend_title(kind), map_legend_style());
   draw_legend(canvas, scale, map_legend_title(kind), {legend_right, layout.origin.y - g.nv * layout.cell_h},
               g.nv * layout.cell_h, map_legend_style());

@@ -11,6 +11,7 @@ struct Rgb {
   std::uint8_t r = 0, g = 0, b = 0;
   bool operator==(const Rgb&) const = default;
 };
+inline constexpr Rgb kBlack{0, 0, 0}, kWhite{255, 255, 255};
 
 struct Image {
   int width = 0;

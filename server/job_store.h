@@ -34,6 +34,15 @@ inline bool is_final(JobState s) {
   return s == JobState::Done || s == JobState::Failed || s == JobState::Cancelled;
 }
 
+// A job's times as the stores keep them (a JSON record, a PostgreSQL double): seconds since 1970.
+inline double to_unix_seconds(std::chrono::system_clock::time_point t) {
+  return std::chrono::duration<double>(t.time_since_epoch()).count();
+}
+inline std::chrono::system_clock::time_point from_unix_seconds(double s) {
+  return std::chrono::system_clock::time_point(
+      std::chrono::duration_cast<std::chrono::system_clock::duration>(std::chrono::duration<double>(s)));
+}
+
 struct JobStatus {
   std::string id;
   JobState state = JobState::Queued;

@@ -33,14 +33,6 @@ namespace fs = std::filesystem;
 using SystemClock = std::chrono::system_clock;
 using json = nlohmann::json;
 
-double to_unix_seconds(SystemClock::time_point t) {
-  return std::chrono::duration<double>(t.time_since_epoch()).count();
-}
-SystemClock::time_point from_unix_seconds(double s) {
-  return SystemClock::time_point(
-      std::chrono::duration_cast<SystemClock::duration>(std::chrono::duration<double>(s)));
-}
-
 std::string errno_text(int err) { return std::strerror(err); }
 
 // Writes `content` to `path` so that readers see the old file or the complete new one: a temporary

@@ -19,11 +19,6 @@ using pg::Param;
 constexpr const char* kForeignKeyViolation = "23503";
 constexpr const char* kUniqueViolation = "23505";
 
-SystemClock::time_point from_unix_seconds(double s) {
-  return SystemClock::time_point(
-      std::chrono::duration_cast<SystemClock::duration>(std::chrono::duration<double>(s)));
-}
-
 // Version 1 of the schema (see job_store_pg.h). Each later version adds one step to kMigrations.
 constexpr const char* kSchemaV1 = R"sql(
 CREATE TABLE lambert_results (

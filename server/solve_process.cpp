@@ -14,12 +14,13 @@
 #include <cstring>
 #include <stdexcept>
 
+#include "server/worker_command.h"
+
 extern char** environ;
 
 namespace lambert {
 namespace {
 
-constexpr int kStatusFd = 3;  // the worker's progress and failure lines
 constexpr std::size_t kMaxStderrLine = 4096;
 constexpr std::size_t kMaxStatusBytes = 64 << 10;  // a status line (a failure's reason is short)
 
@@ -102,10 +103,10 @@ SolveProcess::SolveProcess(const std::filesystem::path& executable, const std::s
   posix_spawn_file_actions_adddup2(&actions, scene, 0);
   posix_spawn_file_actions_adddup2(&actions, out[1], 1);
   posix_spawn_file_actions_adddup2(&actions, err[1], 2);
-  posix_spawn_file_actions_adddup2(&actions, status[1], kStatusFd);
+  posix_spawn_file_actions_adddup2(&actions, status[1], kWorkerStatusFd);
   // Nothing else of the server's (its listening socket, client connections, the data directory's
   // lock) reaches the worker, whose descriptors are not all close-on-exec.
-  posix_spawn_file_actions_addclosefrom_np(&actions, kStatusFd + 1);
+  posix_spawn_file_actions_addclosefrom_np(&actions, kWorkerStatusFd + 1);
   const int rc = ::posix_spawn(&pid_, argv[0], &actions, nullptr, argv.data(), envp.data());
   posix_spawn_file_actions_destroy(&actions);
   ::close(scene);

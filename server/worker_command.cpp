@@ -31,8 +31,6 @@
 namespace lambert {
 namespace {
 
-constexpr int kStatusFd = 3;
-
 void report(const std::string& word, const std::string& message = "") {
   std::string line = word;
   if (!message.empty()) {
@@ -43,7 +41,7 @@ void report(const std::string& word, const std::string& message = "") {
   const char* p = line.data();
   std::size_t left = line.size();
   while (left > 0) {
-    const ssize_t n = ::write(kStatusFd, p, left);
+    const ssize_t n = ::write(kWorkerStatusFd, p, left);
     if (n <= 0) return;  // the server is gone; PR_SET_PDEATHSIG ends this process
     p += n;
     left -= static_cast<std::size_t>(n);

@@ -8,6 +8,10 @@
 
 namespace lambert {
 
+// The descriptor on which the worker reports its progress and the reason of a failure, line by line
+// (server/solve_process.cpp reads it).
+inline constexpr int kWorkerStatusFd = 3;
+
 // `args` are the arguments after "solve-worker". Returns the process exit status: 0 with a result,
 // 1 after a failure it reported, 2 on bad usage.
 int run_solve_worker(const std::vector<std::string>& args);

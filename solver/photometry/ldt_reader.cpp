@@ -15,7 +15,6 @@
 // Numbers may use a decimal comma ("12,5"), as many European files do. Intensities are scaled to cd
 // by the conversion factor and the first lamp set's flux / 1000.
 #include <algorithm>
-#include <cctype>
 #include <cmath>
 
 #include "mesh/mesh_text.h"
@@ -25,12 +24,6 @@ namespace lambert {
 namespace {
 
 using namespace photometry_io;
-
-std::string_view trimmed(std::string_view s) {
-  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front()))) s.remove_prefix(1);
-  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.remove_suffix(1);
-  return s;
-}
 
 class LdtLines {
  public:

@@ -1,6 +1,7 @@
 // The photometric readers' shared pieces (photometric_text.h).
 #include "solver/photometry/photometric_text.h"
 
+#include <cctype>
 #include <charconv>
 #include <utility>
 
@@ -15,6 +16,12 @@ std::string located(std::string_view name, std::size_t line, const std::string& 
   out += ": ";
   if (line > 0) out += "line " + std::to_string(line) + ": ";
   return out + message;
+}
+
+std::string_view trimmed(std::string_view s) {
+  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front()))) s.remove_prefix(1);
+  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.remove_suffix(1);
+  return s;
 }
 
 bool WordCursor::separator(char c) const {
@@ -41,12 +48,12 @@ double checked_real(std::string_view word, std::size_t line, std::string_view fi
   switch (r.status) {
     case mesh_io::NumberStatus::Ok: return r.value;
     case mesh_io::NumberStatus::NotFinite:
-      fail(line, field_prefix(field) + mesh_io::quoted(word) + " is not a finite number");
+      fail(line, field_prefix(field) + mesh_io::in_quotes(word) + " is not a finite number");
     case mesh_io::NumberStatus::OutOfRange:
-      fail(line, field_prefix(field) + mesh_io::quoted(word) + " is out of the range of a double");
+      fail(line, field_prefix(field) + mesh_io::in_quotes(word) + " is out of the range of a double");
     case mesh_io::NumberStatus::NotANumber: break;
   }
-  fail(line, field_prefix(field) + "expected a number, got " + mesh_io::quoted(word));
+  fail(line, field_prefix(field) + "expected a number, got " + mesh_io::in_quotes(word));
 }
 
 }  // namespace
@@ -74,7 +81,7 @@ long long integer_field(std::string_view word, std::size_t line, std::string_vie
   if (ec == std::errc() && stop == digits.data() + digits.size() && !digits.empty())
     fail(line, field_prefix(field) + std::to_string(any) + " is outside [" + std::to_string(lo) + ", " +
                    std::to_string(hi) + "]");
-  fail(line, field_prefix(field) + "expected an integer, got " + mesh_io::quoted(word));
+  fail(line, field_prefix(field) + "expected an integer, got " + mesh_io::in_quotes(word));
 }
 
 std::string_view next_word(WordCursor& words, std::string_view field) {

@@ -25,6 +25,9 @@ struct ReadFailure {
 // "NAME: line N: message" (or "NAME: message" for line 0).
 std::string located(std::string_view name, std::size_t line, const std::string& message);
 
+// The text without white space at either end (a header's or a keyword's value).
+std::string_view trimmed(std::string_view s);
+
 // The words of a text from a byte offset on, separated by white space and, where commas_separate,
 // by commas (LM-63 allows both), with the line each one is on.
 class WordCursor {

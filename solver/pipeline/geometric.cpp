@@ -8,12 +8,12 @@
 #include "solver/dense/discretise.h"
 #include "solver/hierarchical/discretise.h"
 #include "solver/pipeline/pipeline.h"
+#include "solver/stopwatch.h"
 
 namespace lambert {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 // Auto takes the dense method wherever it can hold the patches (its factors are exact and stored:
 // the patch matrix is read off them), the hierarchical one beyond.

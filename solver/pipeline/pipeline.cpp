@@ -9,12 +9,12 @@
 #include "solver/pipeline/outputs.h"
 #include "solver/pipeline/probes.h"
 #include "solver/pipeline/spectral_systems.h"
+#include "solver/stopwatch.h"
 
 namespace lambert {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 // The right-hand-side sets: the joint sources, then (output.per_source) each source alone.
 std::vector<RhsSet> rhs_sets(const DirectLight& light) {

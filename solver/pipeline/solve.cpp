@@ -11,13 +11,13 @@
 #include "solver/pipeline/pipeline.h"
 #include "solver/pipeline/prepare.h"
 #include "solver/radiosity.h"
+#include "solver/stopwatch.h"
 #include "solver/thermal/radiant.h"
 
 namespace lambert {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 constexpr int kAdaptiveRounds = 2;
 
