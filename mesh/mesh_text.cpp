@@ -83,7 +83,7 @@ std::optional<long long> parse_integer(std::string_view word, long long lo, long
   return v;
 }
 
-std::string quoted(std::string_view word) {
+std::string in_quotes(std::string_view word) {
   constexpr std::size_t kMax = 40;
   std::string out(1, '\'');  // appended piece by piece: GCC 12 warns falsely (-Wrestrict) on "'" + s
   out.append(word.substr(0, kMax));

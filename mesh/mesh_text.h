@@ -60,7 +60,7 @@ Real parse_real(std::string_view word);
 std::optional<long long> parse_integer(std::string_view word, long long lo, long long hi);
 
 // "'word'" for messages, cut to 40 bytes.
-std::string quoted(std::string_view word);
+std::string in_quotes(std::string_view word);
 
 // "line N: message".
 std::string at_line(std::size_t line, const std::string& message);

@@ -25,9 +25,9 @@ bool one_of(std::string_view word, const auto& list) {
 
 std::string number_problem(std::string_view word, NumberStatus status) {
   switch (status) {
-    case NumberStatus::NotFinite: return quoted(word) + " is not finite";
-    case NumberStatus::OutOfRange: return quoted(word) + " is out of the double range";
-    default: return quoted(word) + " is not a number";
+    case NumberStatus::NotFinite: return in_quotes(word) + " is not finite";
+    case NumberStatus::OutOfRange: return in_quotes(word) + " is out of the double range";
+    default: return in_quotes(word) + " is not a number";
   }
 }
 
@@ -68,10 +68,10 @@ std::optional<std::string> read_corner(std::string_view word, std::size_t vertex
                         (vn.find('/') != std::string_view::npos || !parse_integer(vn, -(1LL << 31), 1LL << 31) ||
                          vn == "0");
     if (bad_vt || bad_vn || (vt.empty() && s2 == std::string_view::npos))
-      return "face corner " + quoted(word) + " is not v, v/vt, v//vn or v/vt/vn";
+      return "face corner " + in_quotes(word) + " is not v, v/vt, v//vn or v/vt/vn";
   }
   const auto i = parse_integer(v, -(1LL << 40), 1LL << 40);
-  if (!i || *i == 0) return "face corner " + quoted(word) + " does not start with a vertex index (1, 2, ... or -1, -2, ...)";
+  if (!i || *i == 0) return "face corner " + in_quotes(word) + " does not start with a vertex index (1, 2, ... or -1, -2, ...)";
   const long long n = static_cast<long long>(vertex_count);
   const long long resolved = *i > 0 ? *i - 1 : n + *i;
   if (resolved < 0 || resolved >= n)
@@ -81,8 +81,8 @@ std::optional<std::string> read_corner(std::string_view word, std::size_t vertex
   return std::nullopt;
 }
 
-std::optional<std::string> read_face(Words& words, PolygonMesh& m, std::vector<int>& corners,
-                                     std::size_t line, const MeshReadLimits& limits) {
+std::optional<std::string> read_obj_face(Words& words, PolygonMesh& m, std::vector<int>& corners,
+                                         std::size_t line, const MeshReadLimits& limits) {
   corners.clear();
   while (auto w = words.next()) {
     if (corners.size() == limits.max_face_vertices)
@@ -109,11 +109,11 @@ PolygonMeshResult parse_obj(std::string_view bytes, const MeshReadLimits& limits
     std::optional<std::string> problem;
     if (line.back() == '\\') problem = "line continuation ('\\' at the end of a line) is not supported";
     else if (*tag == "v") problem = read_vertex(words, m, limits);
-    else if (*tag == "f" || *tag == "fo") problem = read_face(words, m, corners, lines.number(), limits);
+    else if (*tag == "f" || *tag == "fo") problem = read_obj_face(words, m, corners, lines.number(), limits);
     else if (one_of(*tag, kFreeForm))
-      problem = "free-form geometry (" + quoted(*tag) + ") is not supported; export polygons";
+      problem = "free-form geometry (" + in_quotes(*tag) + ") is not supported; export polygons";
     else if (!one_of(*tag, kSkipped))
-      problem = "unknown statement " + quoted(*tag);
+      problem = "unknown statement " + in_quotes(*tag);
     if (problem) return failure(at_line(lines.number(), *problem));
   }
   if (m.face_count() == 0) return failure("the file has no faces");

@@ -23,9 +23,9 @@ std::optional<Keyword> parse_keyword(std::string_view word, std::string& problem
   if (rest.substr(0, 1) == "N") k.normal = true, rest.remove_prefix(1);
   if (rest == "OFF") return k;
   if (rest == "4OFF" || rest == "nOFF")
-    problem = quoted(word) + ": only three-dimensional OFF is supported";
+    problem = in_quotes(word) + ": only three-dimensional OFF is supported";
   else
-    problem = "not an OFF file (the header keyword is " + quoted(word) + ", expected OFF, COFF, NOFF, ...)";
+    problem = "not an OFF file (the header keyword is " + in_quotes(word) + ", expected OFF, COFF, NOFF, ...)";
   return std::nullopt;
 }
 
@@ -53,7 +53,7 @@ std::optional<std::string> read_count(Words& words, const char* what, long long&
   const auto w = words.next();
   if (!w) return "the header has no " + std::string(what) + " count";
   const auto n = parse_integer(*w, 0, 1LL << 62);
-  if (!n) return "the " + std::string(what) + " count must be a whole number >= 0, got " + quoted(*w);
+  if (!n) return "the " + std::string(what) + " count must be a whole number >= 0, got " + in_quotes(*w);
   count = *n;
   return std::nullopt;
 }
@@ -66,7 +66,7 @@ std::optional<std::string> read_vertex(Words& words, const Keyword& k, PolygonMe
     if (n < 3 && r.status == NumberStatus::NotFinite)
       return std::string("a coordinate is not finite (") + "xyz"[n] + " = " + std::string(*w) + ")";
     if (r.status != NumberStatus::Ok && (n < 3 || r.status != NumberStatus::NotFinite))
-      return quoted(*w) + " is not a number";
+      return in_quotes(*w) + " is not a number";
     if (n < 3) c[n] = r.value;
     ++n;
   }
@@ -79,11 +79,11 @@ std::optional<std::string> read_vertex(Words& words, const Keyword& k, PolygonMe
   return std::nullopt;
 }
 
-std::optional<std::string> read_face(Words& words, PolygonMesh& m, std::vector<int>& corners, std::size_t line,
-                                     const MeshReadLimits& limits) {
+std::optional<std::string> read_off_face(Words& words, PolygonMesh& m, std::vector<int>& corners,
+                                         std::size_t line, const MeshReadLimits& limits) {
   const auto first = words.next();
   const auto n = first ? parse_integer(*first, 0, 1LL << 62) : std::nullopt;
-  if (!n) return "a face line starts with its vertex count, got " + quoted(first.value_or(""));
+  if (!n) return "a face line starts with its vertex count, got " + in_quotes(first.value_or(""));
   if (static_cast<unsigned long long>(*n) > limits.max_face_vertices)
     return "a face has " + std::to_string(*n) + " vertices; at most " + std::to_string(limits.max_face_vertices) +
            " are allowed";
@@ -92,13 +92,13 @@ std::optional<std::string> read_face(Words& words, PolygonMesh& m, std::vector<i
     const auto w = words.next();
     if (!w) return "the face has " + std::to_string(*n) + " vertices, the line ends after " + std::to_string(i);
     const auto v = parse_integer(*w, -(1LL << 31), (1LL << 31) - 1);
-    if (!v) return "vertex index " + quoted(*w) + " is not a whole number";
+    if (!v) return "vertex index " + in_quotes(*w) + " is not a whole number";
     corners.push_back(static_cast<int>(*v));
   }
   std::size_t colour = 0;
   while (auto w = words.next()) {
     if (++colour > 4 || parse_real(*w).status != NumberStatus::Ok)
-      return "after the face's indices only a colour (up to 4 numbers) may follow, got " + quoted(*w);
+      return "after the face's indices only a colour (up to 4 numbers) may follow, got " + in_quotes(*w);
   }
   return add_face(m, corners.data(), corners.size(), m.vertices.size(), line, limits);
 }
@@ -146,7 +146,7 @@ PolygonMeshResult parse_off(std::string_view bytes, const MeshReadLimits& limits
   for (long long i = 0; i < nf; ++i) {
     if (!lines.next()) return failure("the file ends after " + std::to_string(i) + " of its " + std::to_string(nf) + " faces");
     Words words(lines.line());
-    if (auto e = read_face(words, m, corners, lines.number(), limits))
+    if (auto e = read_off_face(words, m, corners, lines.number(), limits))
       return failure(at_line(lines.number(), "face " + std::to_string(i) + ": " + *e));
   }
   if (lines.next()) return failure(at_line(lines.number(), "data after the last face"));

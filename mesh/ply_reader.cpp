@@ -90,13 +90,13 @@ std::optional<std::string> read_property(Words& words, Element& e) {
     p.list = true, p.count_type = *count_type, p.type = *type;
   } else {
     const auto type = type_named(*first);
-    if (!type) return "unknown property type " + quoted(*first);
+    if (!type) return "unknown property type " + in_quotes(*first);
     p.type = *type;
   }
   const auto name = words.next();
   if (!name || !words.at_end()) return std::string("a property line ends with the property's name");
   for (const Property& q : e.properties)
-    if (q.name == *name) return "property " + quoted(*name) + " is declared twice";
+    if (q.name == *name) return "property " + in_quotes(*name) + " is declared twice";
   p.name = std::string(*name);
   e.properties.push_back(std::move(p));
   return std::nullopt;
@@ -123,21 +123,21 @@ std::optional<std::string> read_header(TextLines& lines, Header& h) {
       if (*enc == "ascii") h.encoding = PlyEncoding::Ascii;
       else if (*enc == "binary_little_endian") h.encoding = PlyEncoding::BinaryLittleEndian;
       else if (*enc == "binary_big_endian") h.encoding = PlyEncoding::BinaryBigEndian;
-      else return at("unknown encoding " + quoted(*enc));
+      else return at("unknown encoding " + in_quotes(*enc));
       format_seen = true;
     } else if (*key == "element") {
       const auto name = words.next(), count = words.next();
       if (!name || !count || !words.at_end()) return at("expected 'element NAME COUNT'");
       const auto n = parse_integer(*count, 0, (1LL << 62));
-      if (!n) return at("element " + quoted(*name) + ": the count " + quoted(*count) + " is not a whole number >= 0");
+      if (!n) return at("element " + in_quotes(*name) + ": the count " + in_quotes(*count) + " is not a whole number >= 0");
       for (const Element& e : h.elements)
-        if (e.name == *name) return at("element " + quoted(*name) + " is declared twice");
+        if (e.name == *name) return at("element " + in_quotes(*name) + " is declared twice");
       h.elements.push_back({std::string(*name), static_cast<unsigned long long>(*n), {}, lines.number()});
     } else if (*key == "property") {
       if (h.elements.empty()) return at("a property before any element");
       if (auto e = read_property(words, h.elements.back())) return at(*e);
     } else {
-      return at("unknown header line " + quoted(*key));
+      return at("unknown header line " + in_quotes(*key));
     }
   }
   return std::string("the header has no 'end_header' line");
@@ -147,7 +147,7 @@ std::optional<std::string> find_layout(const Header& h, Layout& layout) {
   for (std::size_t k = 0; k < h.elements.size(); ++k) {
     const Element& e = h.elements[k];
     auto at = [&](const std::string& m) { return std::optional<std::string>(at_line(e.line, m)); };
-    if (e.properties.empty() && e.count > 0) return at("element " + quoted(e.name) + " has no properties");
+    if (e.properties.empty() && e.count > 0) return at("element " + in_quotes(e.name) + " has no properties");
     if (e.name == "tristrips") return at("triangle strips ('tristrips') are not supported; export faces");
     if (e.name == "vertex") {
       layout.vertex_element = static_cast<int>(k);
@@ -199,13 +199,13 @@ std::optional<std::string> check_counts(const Header& h, const Layout& layout, s
 std::optional<double> ascii_value(std::string_view word, PlyType t, std::string& problem) {
   if (is_integer(t)) {
     const auto v = parse_integer(word, info(t).lo, info(t).hi);
-    if (!v) problem = quoted(word) + " is not a whole number in the range of " + std::string(info(t).names[0]);
+    if (!v) problem = in_quotes(word) + " is not a whole number in the range of " + std::string(info(t).names[0]);
     return v ? std::optional<double>(static_cast<double>(*v)) : std::nullopt;
   }
   const Real r = parse_real(word);
   if (r.status == NumberStatus::Ok) return r.value;
   if (r.status == NumberStatus::NotFinite) return std::isnan(r.value) || std::isinf(r.value) ? r.value : NAN;
-  problem = quoted(word) + (r.status == NumberStatus::OutOfRange ? " is out of the double range" : " is not a number");
+  problem = in_quotes(word) + (r.status == NumberStatus::OutOfRange ? " is out of the double range" : " is not a number");
   return std::nullopt;
 }
 
@@ -230,7 +230,7 @@ std::optional<std::string> read_ascii_element(Words& words, const Element& e, in
     std::size_t items = 1;
     if (prop.list) {
       const auto w = words.next();
-      if (!w) return "expected " + std::to_string(e.properties.size()) + " properties, the line ends before " + quoted(prop.name);
+      if (!w) return "expected " + std::to_string(e.properties.size()) + " properties, the line ends before " + in_quotes(prop.name);
       const auto n = ascii_value(*w, prop.count_type, problem);
       if (!n) return prop.name + " count: " + problem;
       items = static_cast<std::size_t>(*n);
@@ -241,7 +241,7 @@ std::optional<std::string> read_ascii_element(Words& words, const Element& e, in
     }
     for (std::size_t i = 0; i < items; ++i) {
       const auto w = words.next();
-      if (!w) return "the line ends inside property " + quoted(prop.name);
+      if (!w) return "the line ends inside property " + in_quotes(prop.name);
       const auto v = ascii_value(*w, prop.type, problem);
       if (!v) return prop.name + ": " + problem;
       if (is_vertex)

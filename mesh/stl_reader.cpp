@@ -96,7 +96,7 @@ enum class Expect { SolidOrEnd, FacetOrEndsolid, OuterLoop, Vertex, EndLoop, End
 std::optional<std::string> expect_words(Words& words, std::initializer_list<std::string_view> keywords) {
   for (std::string_view k : keywords) {
     const auto w = words.next();
-    if (!w || !keyword_is(*w, k)) return "expected '" + std::string(k) + "', got " + quoted(w.value_or(""));
+    if (!w || !keyword_is(*w, k)) return "expected '" + std::string(k) + "', got " + in_quotes(w.value_or(""));
   }
   return std::nullopt;
 }
@@ -110,7 +110,7 @@ std::optional<std::string> read_numbers(Words& words, double (&v)[3], bool coord
       continue;
     }
     if (r.status != NumberStatus::Ok && !(r.status == NumberStatus::NotFinite && !coordinates))
-      return "expected three numbers, got " + quoted(w.value_or(""));
+      return "expected three numbers, got " + in_quotes(w.value_or(""));
     v[a] = r.value;
   }
   if (!words.at_end()) return std::string("more than three numbers");

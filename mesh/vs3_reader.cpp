@@ -72,7 +72,7 @@ std::string_view rest_of_line(std::string_view text) {
   return text.substr(i, end - i);
 }
 
-using mesh_io::quoted;
+using mesh_io::in_quotes;
 
 // A finite number, the whole word (mesh_io::parse_real: "+1.", ".5", "1.e-4"; not "nan" or "inf").
 std::optional<double> to_number(std::string_view word) {
@@ -151,7 +151,7 @@ bool Reader::whole(const Line& line, std::string_view word, const char* what, lo
                    int& into) {
   const auto v = to_whole(word);
   if (!v) {
-    messages_.error(line.number, std::string(what) + ": expected a whole number, got " + quoted(word));
+    messages_.error(line.number, std::string(what) + ": expected a whole number, got " + in_quotes(word));
     return false;
   }
   if (*v < lo || *v > hi) {
@@ -212,7 +212,7 @@ bool Reader::record(const Line& line) {
   const char c = static_cast<char>(std::toupper(static_cast<unsigned char>(id.front())));
   if (c == 'E' || c == '*') return false;  // the end of data: nothing after it is read
   if (id.size() != 1) {
-    messages_.error(line.number, "unknown line type " + quoted(id) +
+    messages_.error(line.number, "unknown line type " + in_quotes(id) +
                                      " (a line starts with one of T, C, F, V, S, M, N, O, E, * or a comment)");
     return true;
   }
@@ -230,7 +230,7 @@ bool Reader::record(const Line& line) {
                      input_.warnings);
       break;
     default:
-      messages_.error(line.number, "unknown line type " + quoted(id) +
+      messages_.error(line.number, "unknown line type " + in_quotes(id) +
                                        " (a line starts with one of T, C, F, V, S, M, N, O, E, * or a comment)");
   }
   return true;
@@ -246,7 +246,7 @@ void Reader::format(const Line& line) {
   if (f == "3") g = Geometry::Vertices;
   else if (f == "3a" || f == "3A") g = Geometry::Blast;
   if (!g) {
-    messages_.error(line.number, "geometry " + quoted(f) + " is not read here: " +
+    messages_.error(line.number, "geometry " + in_quotes(f) + " is not read here: " +
                                      (f == "2" ? "F 2 is View3D's 2-D geometry; " : "") + "expected 3 or 3a");
     return;
   }
@@ -277,7 +277,7 @@ void Reader::vertex(const Line& line) {
   const auto n = to_whole(line.words[1]);
   const long long expected = static_cast<long long>(input_.vertices.size()) + 1;
   if (!n || *n != expected) {
-    messages_.error(line.number, "vertex " + quoted(line.words[1]) + " out of sequence: expected " +
+    messages_.error(line.number, "vertex " + in_quotes(line.words[1]) + " out of sequence: expected " +
                                      std::to_string(expected));
     return;
   }
@@ -286,7 +286,7 @@ void Reader::vertex(const Line& line) {
     const auto v = to_number(line.words[2 + k]);
     if (!v) {
       messages_.error(line.number, std::string("vertex ") + std::to_string(*n) + ": " + "xyz"[k] +
-                                       " is not a finite number: " + quoted(line.words[2 + k]));
+                                       " is not a finite number: " + in_quotes(line.words[2 + k]));
       return;
     }
     if (std::abs(*v) > 1e9) {
@@ -321,7 +321,7 @@ void Reader::controls(const Line& line) {
   }
   for (std::size_t k = 0; k < words.size(); k += 2) {
     if (k + 1 == words.size()) {
-      messages_.error(line.number, "control " + quoted(words[k]) + " has no value");
+      messages_.error(line.number, "control " + in_quotes(words[k]) + " has no value");
       return;
     }
     control_value(line, words[k], words[k + 1]);
@@ -335,7 +335,7 @@ bool Reader::control_value(const Line& line, std::string_view key, std::string_v
   if (same_word(key, "eps")) {
     const auto v = to_number(value);
     if (!v || !(*v > 0) || *v >= 1) {
-      messages_.error(line.number, what + ": expected a number in (0, 1), got " + quoted(value));
+      messages_.error(line.number, what + ": expected a number in (0, 1), got " + in_quotes(value));
       return false;
     }
     c.eps = *v;
@@ -356,7 +356,7 @@ bool Reader::control_value(const Line& line, std::string_view key, std::string_v
       *into = flag == 1;
       return true;
     }
-  messages_.error(line.number, "unknown control " + quoted(key) +
+  messages_.error(line.number, "unknown control " + in_quotes(key) +
                                    " (View3D's are eps, maxU, maxO, minO, row, col, encl, emit, out, list, "
                                    "prjD, maxV)");
   return false;
@@ -393,12 +393,12 @@ void Reader::common_fields(const Line& line, std::span<const std::string_view> f
   whole(line, fields[1], (who + ": combination").c_str(), 0, 1 << 30, s.combine);
   const auto e = to_number(fields[2]);
   if (!e || *e < 0 || *e > 1)
-    messages_.error(line.number, who + ": the emissivity must be a number in [0, 1], got " + quoted(fields[2]));
+    messages_.error(line.number, who + ": the emissivity must be a number in [0, 1], got " + in_quotes(fields[2]));
   else
     s.emissivity = *e;
   if (fields[3].size() > kMaxNameBytes || !is_clean_utf8(fields[3]))
     messages_.error(line.number, who + ": the name must be UTF-8 text of at most " + std::to_string(kMaxNameBytes) +
-                                     " bytes without control characters, got " + quoted(fields[3]));
+                                     " bytes without control characters, got " + in_quotes(fields[3]));
   s.name = std::string(fields[3]);
 }
 
@@ -418,7 +418,7 @@ void Reader::surface(const Line& line, SurfaceKind kind) {
   const long long expected = static_cast<long long>(input_.surfaces.size()) + 1;
   const auto n = line.words.size() > 1 ? to_whole(line.words[1]) : std::nullopt;
   if (!n || *n != expected) {
-    messages_.error(line.number, "surface " + quoted(line.words.size() > 1 ? line.words[1] : "") +
+    messages_.error(line.number, "surface " + in_quotes(line.words.size() > 1 ? line.words[1] : "") +
                                      " out of sequence: expected " + std::to_string(expected));
     return;
   }
@@ -455,7 +455,7 @@ void Reader::surface(const Line& line, SurfaceKind kind) {
   } else {
     const char shape = static_cast<char>(std::toupper(static_cast<unsigned char>(line.words[2].front())));
     if (line.words[2].size() != 1 || (shape != 'R' && shape != 'Q' && shape != 'T')) {
-      messages_.error(line.number, "surface " + std::to_string(s.number) + ": shape " + quoted(line.words[2]) +
+      messages_.error(line.number, "surface " + std::to_string(s.number) + ": shape " + in_quotes(line.words[2]) +
                                        " is not R (rectangle), Q (quadrilateral) or T (triangle)");
     } else {
       pending_ = PendingBlast{input_.surfaces.size(), shape, {}, 5u + (shape == 'R' ? 2u : shape == 'T' ? 6u : 8u)};
@@ -485,7 +485,7 @@ bool Reader::blast_numbers(const Line& line) {
   for (std::string_view word : line.words) {
     const auto v = to_number(word);
     if (!v || pending_->numbers.size() == pending_->needed) {
-      messages_.error(line.number, !v ? who + ": expected a number, got " + quoted(word)
+      messages_.error(line.number, !v ? who + ": expected a number, got " + in_quotes(word)
                                       : who + ": more than the " + std::to_string(pending_->needed) +
                                             " numbers its shape takes");
       pending_.reset();

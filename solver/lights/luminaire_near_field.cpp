@@ -19,7 +19,7 @@ namespace lambert {
 namespace {
 
 constexpr double kRelTolerance = 1e-5;  // of the adaptive cubature over the opening
-constexpr int kMaxDepth = 6;            // 1:4 levels of the (s, t) triangles
+constexpr int kNearFieldDepth = 6;      // 1:4 levels of the (s, t) triangles
 constexpr double kFarSeparation = 6;    // beyond this many opening-plus-receiver radii, the fixed rule
 // Where the point form errs by at most this (luminaire.h: ε(d) = 10⁻³ (d*/d)²), a flat opening is
 // integrated by the symmetric 4-point rule, exact to degree 3 (the Gauss points (±1/√3, ±1/√3) of a
@@ -91,7 +91,8 @@ double over_opening(const PlacedLuminaire& l, OpeningRule how, Value&& value) {
     auto integrand = [&](const Point3& st) {
       return faces[f].jacobian(st.x, st.y) * value(static_cast<int>(f), st.x, st.y, faces[f].point(st.x, st.y));
     };
-    for (const Triangle& cell : faces[f].cells) fine += integrate_adaptive(cell, integrand, coarse[c++], tolerance, kMaxDepth);
+    for (const Triangle& cell : faces[f].cells)
+      fine += integrate_adaptive(cell, integrand, coarse[c++], tolerance, kNearFieldDepth);
   }
   return fine;
 }

@@ -29,11 +29,11 @@
 namespace lambert {
 namespace {
 
-// Accuracy of a receiving patch's average: the cubature over the emitter refines 1:4 (to kMaxDepth
-// levels) until children and parent agree within kRelTolerance; each node's cone integral is
-// computed to kConeTolerance.
+// Accuracy of a receiving patch's average: the cubature over the emitter refines 1:4 (to
+// kEmitterCubatureDepth levels) until children and parent agree within kRelTolerance; each node's
+// cone integral is computed to kConeTolerance.
 constexpr double kRelTolerance = 1e-5;
-constexpr int kMaxDepth = 8;
+constexpr int kEmitterCubatureDepth = 8;
 constexpr double kConeTolerance = 1e-7;
 // Whole exponents up to this take the double-axis moments: O(n) per point, against the polar
 // integral's cost, which does not grow with n (a lobe of n = 10⁴ is 4 × 10⁴ recurrence steps).
@@ -62,7 +62,8 @@ double integrate_graded(const Triangle& t, F& f, int min_depth, double rel_toler
     return sum;
   }
   const double coarse = apply_rule(triangle_rule_degree5(), t, f);
-  return integrate_adaptive(t, f, coarse, std::max(abs_tolerance, rel_tolerance * std::abs(coarse)), kMaxDepth);
+  return integrate_adaptive(t, f, coarse, std::max(abs_tolerance, rel_tolerance * std::abs(coarse)),
+                            kEmitterCubatureDepth);
 }
 
 class PhongEmitterModel final : public LightModel {

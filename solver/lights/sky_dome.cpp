@@ -15,7 +15,7 @@ namespace {
 
 // Refinement depth of a fan triangle's cubature (1:4 splits; about the sun, where the kink sits at a
 // vertex, every level removes a quarter of the error's support).
-constexpr int kMaxDepth = 10;
+constexpr int kSkyCubatureDepth = 10;
 
 // The twenty triangles of the box about p, each facing p: sky first (kSkyTriangles), then ground.
 constexpr int kSkyTriangles = 10, kBoxTriangles = 20;
@@ -93,7 +93,7 @@ double region_integral(const ExactVisibility::VisibleRegion& region, const Point
       if (orientation == 0) continue;  // the fan's degenerate triangles (apex on the edge)
       const Triangle t{{a, to_space(b2), to_space(c2)}};
       const double coarse = apply_rule(rule, t, integrand);
-      const double value = integrate_adaptive(t, integrand, coarse, abs_tolerance, kMaxDepth);
+      const double value = integrate_adaptive(t, integrand, coarse, abs_tolerance, kSkyCubatureDepth);
       total += orientation > 0 ? value : -value;
     }
   }
