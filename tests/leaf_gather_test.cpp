@@ -171,12 +171,11 @@ BlackRoom solve_ball_under_panel(bool exact_visibility, std::size_t leaf_links =
 }
 // Solved once per visibility mode.
 const BlackRoom& ball_under_panel(bool exact) {
-  const auto solve = [](bool exact_visibility) { return solve_ball_under_panel(exact_visibility); };
   if (exact) {
-    static const BlackRoom with_exact = solve(true);
+    static const BlackRoom with_exact = solve_ball_under_panel(true);
     return with_exact;
   }
-  static const BlackRoom by_default = solve(false);
+  static const BlackRoom by_default = solve_ball_under_panel(false);
   return by_default;
 }
 
