@@ -18,13 +18,24 @@ from cube_room_furnace import box
 AREA = 2 * (6 * 4 + 6 * 3 + 4 * 3)  # the room's surface, m^2 (the furniture adds about 9 %)
 
 
-def scene(target_patches, method, accuracy):
-    room = box((0, 0, 0), (6, 4, 3), True)
+def floor_and_walls(size):
+    """A room's inward box from the origin to `size`, as its floor and the rest (walls and ceiling)."""
+    room = box((0, 0, 0), size, True)
     floor = {"vertices": room["vertices"][:4], "triangles": room["triangles"][:2]}
     walls = {"vertices": room["vertices"][4:], "triangles": [[a - 4, b - 4, c - 4] for a, b, c in room["triangles"][2:]]}
+    return floor, walls
+
+
+def solver_settings(method, accuracy):
     solver = {"method": method}
     if accuracy is not None:
         solver["accuracy"] = accuracy
+    return solver
+
+
+def scene(target_patches, method, accuracy):
+    floor, walls = floor_and_walls((6, 4, 3))
+    solver = solver_settings(method, accuracy)
     return {
         "lambert": 1, "name": "furnished-room",
         "description": "6 x 4 x 3 m room, a cabinet and a stool on the floor, a floating table top, a ceiling panel and a point source",
@@ -51,16 +62,17 @@ def scene(target_patches, method, accuracy):
     }
 
 
-def main():
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+def run_cli(doc, make_scene):
+    """The command line of the room generators: OUT.json TARGET_PATCHES [--method] [--accuracy]."""
+    parser = argparse.ArgumentParser(description=doc, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("out")
     parser.add_argument("target_patches", type=float)
     parser.add_argument("--method", default="auto")
     parser.add_argument("--accuracy", type=float)
     args = parser.parse_args()
     with open(args.out, "w") as f:
-        json.dump(scene(args.target_patches, args.method, args.accuracy), f)
+        json.dump(make_scene(args.target_patches, args.method, args.accuracy), f)
 
 
 if __name__ == "__main__":
-    main()
+    run_cli(__doc__, scene)

@@ -12,10 +12,8 @@ finer patches.
 
 usage: tools/two_rooms.py OUT.json TARGET_PATCHES [--method auto|dense|hierarchical] [--accuracy A]
 """
-import argparse
-import json
-
 from cube_room_furnace import box
+from furnished_room import floor_and_walls, run_cli, solver_settings
 
 NM = [450, 550, 650]
 LENGTH = 10.12  # both rooms and the partition, m
@@ -27,12 +25,7 @@ def spectrum(values):
 
 
 def scene(target_patches, method, accuracy):
-    room = box((0, 0, 0), (LENGTH, 4, 3), True)
-    floor = {"vertices": room["vertices"][:4], "triangles": room["triangles"][:2]}
-    shell = {"vertices": room["vertices"][4:], "triangles": [[a - 4, b - 4, c - 4] for a, b, c in room["triangles"][2:]]}
-    solver = {"method": method}
-    if accuracy is not None:
-        solver["accuracy"] = accuracy
+    floor, shell = floor_and_walls((LENGTH, 4, 3))
     return {
         "lambert": 1, "name": "two-rooms",
         "description": "two rooms joined by a door: a point source in the west one, a ceiling panel in the east one",
@@ -64,20 +57,9 @@ def scene(target_patches, method, accuracy):
              "grid": {"origin": [5.13, 0.1, 0.2], "u": [0, 3.8, 0], "v": [0, 0, 2.6], "nu": 19, "nv": 13}},
         ],
         "meshing": {"max_patch_area": AREA / target_patches},
-        "solver": solver,
+        "solver": solver_settings(method, accuracy),
     }
 
 
-def main():
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("out")
-    parser.add_argument("target_patches", type=float)
-    parser.add_argument("--method", default="auto")
-    parser.add_argument("--accuracy", type=float)
-    args = parser.parse_args()
-    with open(args.out, "w") as f:
-        json.dump(scene(args.target_patches, args.method, args.accuracy), f)
-
-
 if __name__ == "__main__":
-    main()
+    run_cli(__doc__, scene)
