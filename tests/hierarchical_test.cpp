@@ -429,6 +429,40 @@ TEST(Hierarchical, ARoomLitThroughADoorGathersTheLightThatPassesIt) {
   EXPECT_LT(worst, 0.2);
 }
 
+// The mean irradiance of the patches whose centroids lie on one side of the plane x = x0.
+double mean_irradiance_beyond(const Solution& sol, double x0, bool east) {
+  double sum = 0, area = 0;
+  for (std::size_t i = 0; i < sol.patches.size(); ++i) {
+    const double x = sol.patches[i].triangle.centroid().x;
+    if (east ? x > x0 + 1e-9 : x < x0 - 1e-9) sum += sol.patches[i].area_m2 * sol.irradiance[i], area += sol.patches[i].area_m2;
+  }
+  return sum / area;
+}
+
+TEST(Hierarchical, ADimRoomBesideABrightOneAgreesWithTheDenseSolver) {
+  // Two grey rooms (ρ = 0.5) joined by a full-height door at 3 ≤ y ≤ 4 in a 0.1 m partition, the
+  // lamp in the west one; the east room gathers a 23rd of what the west one does. The refiner's budget
+  // is a share of the scene's mean radiosity, so each link into the east room may err by a large
+  // share of its own light, and links dropped as hidden all err with one sign: those its rays find
+  // hidden are split where F exceeds the budget, as partly visible ones are (Refiner::resolve_pending).
+  // Each room's mean irradiance against the dense method's (which traces every pair of patches). Measured: east
+  // −3.6e-4, west +2.2e-4; with hidden links dropped whatever F, east −7.2e-4.
+  SceneBuilder b;
+  const int grey = b.material("grey", 0.5);
+  b.surface("rooms", grey, box({0, 0, 0}, {8.1, 4, 3}, true));
+  b.surface("partition", grey, box({4, 0, 0}, {4.1, 3, 3}, false));
+  b.point_light({2, 1.5, 2.5}, 100);
+  b.max_patch_area(0.1);
+  const Solution dense = solve_with(b.scene(), SolverMethod::Dense);
+  const Solution hier = solve_with(b.scene(), SolverMethod::Hierarchical);
+  ASSERT_EQ(hier.stats.method, SolverMethod::Hierarchical);
+  const double east = mean_irradiance_beyond(hier, 4.1, true) / mean_irradiance_beyond(dense, 4.1, true) - 1;
+  const double west = mean_irradiance_beyond(hier, 4, false) / mean_irradiance_beyond(dense, 4, false) - 1;
+  std::printf("the rooms' mean irradiance against the dense solver: east %+.2e, west %+.2e\n", east, west);
+  EXPECT_LT(std::abs(east), 5e-4);
+  EXPECT_LT(std::abs(west), 5e-4);
+}
+
 TEST(Hierarchical, GreyRoomLitByItsFloorAgreesWithTheDenseSolverAtItsEdges) {
   // The same room with grey walls (ρ = 0.5) at 0.05 m², against the dense solver on the patches the
   // two meshes share (same centroid). A coarse source next to a small receiver at an edge spread what
