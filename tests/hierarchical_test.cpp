@@ -445,8 +445,8 @@ TEST(Hierarchical, ADimRoomBesideABrightOneAgreesWithTheDenseSolver) {
   // is a share of the scene's mean radiosity, so each link into the east room may err by a large
   // share of its own light, and links dropped as hidden all err with one sign: those its rays find
   // hidden are split where F exceeds the budget, as partly visible ones are (Refiner::resolve_pending).
-  // Each room's mean irradiance against the dense method's (which traces every pair of patches). Measured: east
-  // −3.6e-4, west +2.2e-4; with hidden links dropped whatever F, east −7.2e-4.
+  // Each room's mean irradiance against the dense method's (which traces every pair of patches).
+  // Measured: east −3.6e-4, west +2.2e-4; with hidden links dropped whatever F, east −7.2e-4.
   SceneBuilder b;
   const int grey = b.material("grey", 0.5);
   b.surface("rooms", grey, box({0, 0, 0}, {8.1, 4, 3}, true));
