@@ -165,9 +165,8 @@ void HierarchicalPointGather::gather_at_point(const Receiver& receiver, double* 
   gather(receiver, tolerance_, E);
   // The tolerance is absolute, a share of the scene's mean radiosity: a point that gathers much less
   // (a room beside a brighter one, a shaded corner) would err by more of its own value. Such a point
-  // is gathered again with the tolerance scaled by what it gathered, down to kDimScale of the mean.
-  // (A dim room's work plane beside a room ten times brighter read 0.27 % low at 9 750 patches
-  // without it, 0.1 % with it: docs/BENCHMARKS.md.)
+  // is gathered again with the tolerance scaled by what it gathered, down to kDimScale of the mean
+  // (docs/BENCHMARKS.md, "A dim room beside a bright one").
   double gathered = 0;
   for (std::size_t k = 0; k < values_.K; ++k) gathered = std::max(gathered, std::abs(E[k]));
   const double scale = mean_B_ > 0 ? gathered / mean_B_ : 1;
