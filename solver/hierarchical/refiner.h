@@ -8,11 +8,10 @@
 // the receiver (10 points; its residual is the link's error) times a kernel-weighted ray-traced visible
 // fraction (16 rays, 64 where they disagree; none where the pair's shaft is clear), whose error is
 // F / 2 before the rays and F max(v, 1 − v) once they find a visible fraction v below 1, F where they
-// find the pair hidden (every leaf
-// below takes v, and a leaf may see all of the source or none: docs/BENCHMARKS.md, "Where a faceted
-// room's patch errors come from"); a link from a
-// cluster carries a one-point estimate of the cluster's intensity (clusters.h), erring by about the
-// pair's relative size; a link into a cluster needs the pair well separated (2.5 × the radii's sum).
+// find the pair hidden (every leaf below takes v, and a leaf may see all of the source or none:
+// docs/BENCHMARKS.md, "Where a faceted room's patch errors come from"); a link from a cluster
+// carries a one-point estimate of the cluster's intensity (clusters.h), erring by about the pair's
+// relative size; a link into a cluster needs the pair well separated (2.5 × the radii's sum).
 #pragma once
 
 #include <tbb/concurrent_unordered_map.h>
