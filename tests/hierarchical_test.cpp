@@ -13,6 +13,7 @@
 #include <map>
 #include <string>
 
+#include "mesh/convex2d.h"
 #include "solver/cubature.h"
 #include "solver/form_factor.h"
 #include "tests/hierarchical_helpers.h"
@@ -346,28 +347,14 @@ TEST(Hierarchical, ThePenumbraOfAPlateHoldsTheBudgetOfItsPartlyVisibleLinks) {
   EXPECT_LT(std::sqrt(sum2 / n), 7e-4);
 }
 
-// The part of polygon `poly` (in the plane z = 0) where the affine function f is ≥ 0
-// (Sutherland–Hodgman: f is exact along an edge, so its zero is where linear interpolation puts it).
-template <class F>
-std::vector<Point3> clip_polygon(const std::vector<Point3>& poly, F f) {
-  std::vector<Point3> out;
-  for (std::size_t k = 0; k < poly.size(); ++k) {
-    const Point3& a = poly[k];
-    const Point3& b = poly[(k + 1) % poly.size()];
-    const double fa = f(a), fb = f(b);
-    if (fa >= 0) out.push_back(a);
-    if ((fa < 0) != (fb < 0)) out.push_back(a + (b - a) * (fa / (fa - fb)));
-  }
-  return out;
-}
-
 TEST(Hierarchical, ARoomLitThroughADoorGathersTheLightThatPassesIt) {
   // A black 8 × 4 × 3 m room cut in two at x = 4 by a black partition of zero thickness (two sheets
   // back to back), with a full-height door at 3 ≤ y ≤ 4. The west half of the floor emits M = 1, so
   // a point p on the east half of the ceiling receives only what passes the door: the west floor's
-  // points q whose segment to p crosses x = 4 at 3 ≤ y ≤ 4. That crossing's y is
-  // p_y + (q_y − p_y)(p_x − 4) / (p_x − q_x), so the bounds are lines in q, and the visible part is
-  // the floor clipped by two half-planes; its factor is point_triangle_factor's sum over a fan,
+  // points q whose segment to p crosses x = 4 at 3 ≤ y ≤ 4. The plane through p and the door's edge
+  // at y = c meets the floor in the line through p's foot (p_x, p_y) and (4, c), so the visible part
+  // is the west floor in the wedge between the lines to (4, 3) and (4, 4) (clip_pass, convex2d.h);
+  // its factor is point_triangle_factor's sum over a fan,
   // averaged over each ceiling patch by the degree-5 rule on 64 parts. Links whose rays the
   // partition blocks entirely, though a leaf below sees the floor through the door, are split where
   // their factor exceeds the budget, as partly visible links are (Refiner::resolve_pending). The
@@ -390,15 +377,13 @@ TEST(Hierarchical, ARoomLitThroughADoorGathersTheLightThatPassesIt) {
   ASSERT_EQ(sol.stats.method, SolverMethod::Hierarchical);
   const Vector3 down{0, 0, -1};
   auto through_door = [&](const Point3& p) {
-    const std::vector<Point3> west = {{0, 0, 0}, {4, 0, 0}, {4, 4, 0}, {0, 4, 0}};
-    auto crossing_at_least = [&](double y) {  // (crossing − y)(p_x − q_x), with p_x − q_x > 0
-      return [&p, y](const Point3& q) { return (q.y - p.y) * (p.x - 4) - (y - p.y) * (p.x - q.x); };
-    };
-    const auto low = crossing_at_least(3), high = crossing_at_least(4);
-    const std::vector<Point3> seen =
-        clip_polygon(clip_polygon(west, low), [&](const Point3& q) { return -high(q); });
+    Loop2d seen = {{0, 0}, {4, 0}, {4, 4}, {0, 4}}, scratch;  // the west floor, counter-clockwise
+    const Point2d foot{p.x, p.y};
+    std::size_t n = clip_pass(seen, seen.size(), {4, 3}, foot, scratch);
+    n = clip_pass(seen, n, foot, {4, 4}, scratch);
     double F = 0;
-    for (std::size_t k = 1; k + 1 < seen.size(); ++k) F += point_triangle_factor(p, down, {seen[0], seen[k], seen[k + 1]});
+    auto at = [&](std::size_t k) { return Point3{seen[k][0], seen[k][1], 0}; };
+    for (std::size_t k = 1; k + 1 < n; ++k) F += point_triangle_factor(p, down, {at(0), at(k), at(k + 1)});
     return F;
   };
   std::vector<double> exact, got, area;
