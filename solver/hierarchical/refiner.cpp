@@ -367,9 +367,10 @@ void Refiner::resolve_pending(LinkBatch& out, std::vector<std::pair<int, int>>& 
     // with one sign, and add up in a room that gathers a small share of the scene's mean, lit through
     // a door: docs/BENCHMARKS.md, "A dim room beside a bright one".)
     const double v = fraction[l];
+    const double weight = area_weight(h_.elements[traced.receiver].area);
     double visibility_error = 0;  // per unit B
     if (v < 1 && !traced.from_cluster && !factor_pending(traced)) {
-      visibility_error = traced.mean_factor() * std::max(v, 1 - v) * area_weight(h_.elements[traced.receiver].area);
+      visibility_error = traced.mean_factor() * std::max(v, 1 - v) * weight;
       if (element_B_[traced.source] * visibility_error > epsilon_) {
         resplit.emplace_back(traced.receiver, traced.source);
         continue;
@@ -384,8 +385,8 @@ void Refiner::resolve_pending(LinkBatch& out, std::vector<std::pair<int, int>>& 
     Link link = traced;
     if (visibility_error > 0) {
       // error_per_B holds refine_to_element's kUnprovenVisibility F: the rest of the bound joins it.
-      const double budgeted = kUnprovenVisibility * link.mean_factor() * area_weight(h_.elements[link.receiver].area);
-      link.error_per_B = static_cast<float>(link.error_per_B + visibility_error - budgeted);
+      link.error_per_B =
+          static_cast<float>(link.error_per_B + visibility_error - kUnprovenVisibility * link.mean_factor() * weight);
     }
     if (factor_pending(link)) {  // two leaves (link_leaves): the mean factor, now
       const double F = leaf_exchange(link.receiver, link.source) / h_.elements[link.receiver].area;
