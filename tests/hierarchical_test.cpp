@@ -449,7 +449,9 @@ TEST(Hierarchical, ADimRoomBesideABrightOneReadsItsConvergedAnswer) {
   // hidden are split where F exceeds the budget, as partly visible ones are (Refiner::resolve_pending).
   // Each room's mean irradiance at the default accuracy (1e-3) against the same mesh solved at 1e-4.
   // Measured: east −8.6e-5, west +4.2e-4; with hidden links dropped whatever F, east −4.5e-4. (At 1e-4
-  // the split moves the east by 4e-5.)
+  // the split moves the east by 4e-5.) The west reads high by the power the closed rooms gain where
+  // the closure leaves reflecting columns free, 6.2e-4 of the lamp's (closure.h; docs/BENCHMARKS.md,
+  // "A closed scene gathers what it sends").
   SceneBuilder b;
   const int grey = b.material("grey", 0.5);
   b.surface("rooms", grey, box({0, 0, 0}, {8.1, 4, 3}, true));
