@@ -464,6 +464,14 @@ TEST(Hierarchical, ADimRoomBesideABrightOneReadsItsConvergedAnswer) {
   const Solution converged = solve_with(tight, SolverMethod::Hierarchical);
   ASSERT_EQ(hier.stats.method, SolverMethod::Hierarchical);
   ASSERT_EQ(hier.patches.size(), converged.patches.size());  // the mesh does not depend on the accuracy
+  // The clipped shares cover each room's surfaces exactly: x > 4.1 and x < 4 each hold a 4 × 4 floor
+  // and ceiling, 4 × 3 of each long wall and a 4 × 3 end wall, 68 m² (the partition's faces lie on
+  // the planes and count for neither).
+  for (const bool east : {true, false}) {
+    double area = 0;
+    for (const Patch& P : hier.patches) area += P.area_m2 * share_beyond(P.triangle, east ? 4.1 : 4, east);
+    EXPECT_NEAR(area, 68.0, 1e-9) << east;
+  }
   auto rooms_against = [&](const Solution& reference) {
     return std::pair{mean_irradiance_beyond(hier, 4.1, true) / mean_irradiance_beyond(reference, 4.1, true) - 1,
                      mean_irradiance_beyond(hier, 4, false) / mean_irradiance_beyond(reference, 4, false) - 1};
