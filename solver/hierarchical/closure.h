@@ -14,32 +14,34 @@
 // would turn a factor negative (λ_i g_j < −1) is scaled whole instead, F'_ij = c_j d_i F_ij.
 //
 // Columns are the less accurate side, and only the emitters' are held. A link reads its source at
-// one point, and in the transpose hands the source's leaves their shares by a linear field (links.h),
-// while the kernel from the receiver may vary more than linearly over the source: each leaf's column
-// misses 1 by a few per cent (3 % rms in the issue-4 room) even where every row is exact. Holding a
-// reflecting leaf's column at 1 rescales what it sends to every receiver, which moved the rows of
-// leaves at the room's edges by up to 4 % (docs/BENCHMARKS.md, "One engine: the hierarchical
-// method converges"). Left free, the misses follow the light, and a closed scene gathers up to 8e-4
-// more or less than its leaves send, which the certificate counts as escaped (docs/BENCHMARKS.md, "A
-// closed scene gathers what it sends"). The reflecting roots cannot all be held at 1 as well: the closed
-// rows fix the columns' area-weighted total, Σ_j A_j C_j = Σ_i A_i, and the roots' light-weighted
-// targets ask for another (docs/BENCHMARKS.md, "The held balance stalls on an inconsistency").
-// Emitting leaves, whose exitance is given, are held together per root, weighted by what each sends,
-// so that a closed scene gathers all the power they emit; held leaf by leaf, they move a floor's light
-// by up to 8 % in a black room lit by its floor. Open leaves are only kept from giving away more than
-// they send.
+// one point, and in the transpose hands the source's leaves their shares by a linear field
+// (links.h), while the kernel from the receiver may vary more than linearly over the source: each
+// leaf's column misses 1 by a few per cent (3 % rms in the issue-4 room) even where every row is
+// exact. Holding a reflecting leaf's column at 1 rescales what it sends to every receiver, which
+// moved the rows of leaves at the room's edges by up to 4 % (docs/BENCHMARKS.md, "One engine: the
+// hierarchical method converges"), and a dim room's light by 1e-3 of itself, whose coarse links
+// miss the most (docs/BENCHMARKS.md, "The held balance stalls on an inconsistency"). Left free, the
+// misses follow the light, and a closed scene gathers up to 8e-4 more or less than its leaves send,
+// which the certificate counts as escaped (docs/BENCHMARKS.md, "A closed scene gathers what it
+// sends"). The reflecting roots cannot all be held at 1 as well: the closed rows fix the columns'
+// area-weighted total, Σ_j A_j C_j = Σ_i A_i, and the roots' light-weighted targets ask for another
+// (the same section). Emitting leaves, whose exitance is given, are held together per root,
+// weighted by what each sends, so that a closed scene gathers all the power they emit; held leaf by
+// leaf, they move a floor's light by up to 8 % in a black room lit by its floor. Open leaves are
+// only kept from giving away more than they send.
 //
 // Each sweep is one pass of F over the links for the rows (R = F c and G = F (c ∘ g) together) and
 // two of Fᵀ for the columns (the part of each row scaled by d, and the part shifted by λ); plain
 // sweeps shrink the error by about 0.65 each in the sphere furnaces, over-relaxed ones
 // (optimal_overrelaxation, solver/linear_solve.h) by about 0.3. The scales and the over-relaxation
-// of the previous refinement round, whose links mostly remain, are the starting point. The sweeps stop once every held row and column is within `target`
-// of 1 (balance_target), or where a previous balance stalled short of a target at least as tight
-// (a stall on the way to the oracle's target does not stop the final balance): a lit room's sweeps
-// stall at 1e-6 to 1e-5 (leaves whose rows and columns are nearly free), far below the links' own
-// errors, and aiming lower cost the 985 435-patch lit sphere room 20 sweeps a round. Returns the
-// largest row-sum error of a closed leaf before any scaling (stats.max_closure_error) and, for the
-// final balance, the largest error of a held row or column after it (stats.closure_residual).
+// of the previous refinement round, whose links mostly remain, are the starting point. The sweeps
+// stop once every held row and column is within `target` of 1 (balance_target), or where a previous
+// balance stalled short of a target at least as tight (a stall on the way to the oracle's target
+// does not stop the final balance): a lit room's sweeps stall at 1e-6 to 1e-5 (leaves whose rows
+// and columns are nearly free), far below the links' own errors, and aiming lower cost the
+// 985 435-patch lit sphere room 20 sweeps a round. Returns the largest row-sum error of a closed
+// leaf before any scaling (stats.max_closure_error) and, for the final balance, the largest error
+// of a held row or column after it (stats.closure_residual).
 //
 // A row-sum error ε moves the radiosity of a closed scene by about ε / (1 − ρ) of itself (the furnace:
 // B = M / (1 − ρ(1 − ε)); where nothing reflects, the irradiance by ε), so the error that moves it by
