@@ -19,8 +19,8 @@
 // leaf's column misses 1 by a few per cent (3 % rms in the issue-4 room) even where every row is
 // exact. Holding a reflecting leaf's column at 1 rescales what it sends to every receiver, which
 // moved the rows of leaves at the room's edges by up to 4 % (docs/BENCHMARKS.md, "One engine: the
-// hierarchical method converges"), and a dim room's light by 1e-3 of itself, whose coarse links
-// miss the most (docs/BENCHMARKS.md, "The held balance stalls on an inconsistency"). Left free, the
+// hierarchical method converges"), and a dim room's light, whose links are the coarsest, by 1e-3
+// of itself (docs/BENCHMARKS.md, "The held balance stalls on an inconsistency"). Left free, the
 // misses follow the light, and a closed scene gathers up to 8e-4 more or less than its leaves send,
 // which the certificate counts as escaped (docs/BENCHMARKS.md, "A closed scene gathers what it
 // sends"). The reflecting roots cannot all be held at 1 as well: the closed rows fix the columns'
