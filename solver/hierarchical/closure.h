@@ -19,16 +19,16 @@
 // leaf's column misses 1 by a few per cent (3 % rms in the issue-4 room) even where every row is
 // exact. Holding a reflecting leaf's column at 1 rescales what it sends to every receiver, which
 // moved the rows of leaves at the room's edges by up to 4 % (docs/BENCHMARKS.md, "One engine: the
-// hierarchical method converges"), and a dim room's light, whose links are the coarsest, by 1e-3
-// of itself (docs/BENCHMARKS.md, "The held balance stalls on an inconsistency"). Left free, the
-// misses follow the light, and a closed scene gathers up to 8e-4 more or less than its leaves send,
-// which the certificate counts as escaped (docs/BENCHMARKS.md, "A closed scene gathers what it
-// sends"). The reflecting roots cannot all be held at 1 as well: the closed rows fix the columns'
+// hierarchical method converges"), and a dim room's light, whose links are the coarsest, by 1e-3 of
+// itself (docs/BENCHMARKS.md, "The held balance stalls on an inconsistency"). Left free, the misses
+// follow the light, and a closed scene gathers up to 8e-4 more or less than its leaves send, which
+// the certificate counts as escaped (docs/BENCHMARKS.md, "A closed scene gathers what it sends").
+// The reflecting roots cannot all be held at 1 as well: the closed rows fix the columns'
 // area-weighted total, Σ_j A_j C_j = Σ_i A_i, and the roots' light-weighted targets ask for another
-// (the same section). Emitting leaves, whose exitance is given, are held together per root,
-// weighted by what each sends, so that a closed scene gathers all the power they emit; held leaf by
-// leaf, they move a floor's light by up to 8 % in a black room lit by its floor. Open leaves are
-// only kept from giving away more than they send.
+// (docs/BENCHMARKS.md, "The held balance stalls on an inconsistency"). Emitting leaves, whose
+// exitance is given, are held together per root, weighted by what each sends, so that a closed
+// scene gathers all the power they emit; held leaf by leaf, they move a floor's light by up to 8 %
+// in a black room lit by its floor. Open leaves are only kept from giving away more than they send.
 //
 // Each sweep is one pass of F over the links for the rows (R = F c and G = F (c ∘ g) together) and
 // two of Fᵀ for the columns (the part of each row scaled by d, and the part shifted by λ); plain
