@@ -7,6 +7,8 @@
 #include <numbers>
 #include <numeric>
 
+#include "solver/radiosity.h"
+
 namespace lambert {
 namespace {
 
@@ -287,6 +289,11 @@ OutwardSolids outward_solids(const std::vector<Surface>& surfaces) {
   for (std::size_t t = 0; t < T; ++t)
     if (out.solid[t] >= 0) kept.solid[t] = renumber[out.solid[t]];
   return kept;
+}
+
+std::unique_ptr<ExactVisibility> scene_exact_visibility(const Scene& scene) {
+  const OutwardSolids solids = outward_solids(scene.surfaces);
+  return std::make_unique<ExactVisibility>(input_triangles(scene), solids.solid, solids.convex, solids.cap);
 }
 
 }  // namespace lambert

@@ -6,6 +6,7 @@
 // encloses a volume (which a sheet's two faces back to back do not). Its faces may point out of that volume (a box) or into it (a room).
 #pragma once
 
+#include <memory>
 #include <vector>
 
 #include "solver/exact_visibility.h"
@@ -43,5 +44,9 @@ struct OutwardSolids {
   std::vector<Cap> cap;
 };
 OutwardSolids outward_solids(const std::vector<Surface>& surfaces);
+
+// Exact visibility among the scene's input triangles, with their outward solids: what the point
+// gathers and the tests evaluate visible factors against.
+std::unique_ptr<ExactVisibility> scene_exact_visibility(const Scene& scene);
 
 }  // namespace lambert

@@ -28,13 +28,6 @@ using test::box;
 using test::SceneBuilder;
 using test::solve_with;
 
-// The scene's input triangles as exact occluders.
-ExactVisibility scene_occluders(const Scene& scene) {
-  const std::vector<Triangle> inputs = input_triangles(scene);
-  const OutwardSolids solids = outward_solids(scene.surfaces);
-  return ExactVisibility(inputs, solids.solid, solids.convex, solids.cap);
-}
-
 // Σ_j B_j F_vis(p → j) over the solve's patches, at a plane receiver at p with normal n.
 double exact_sum(const Solution& sol, const ExactVisibility& exact, const Point3& p, const Vector3& n) {
   const Receiver r{Receiver::Kind::Planar, p, n, {}};
@@ -68,13 +61,13 @@ TEST(HierarchicalPointGather, ProbesBesideABoxReadTheExactSumOverThePatches) {
   ASSERT_EQ(sol.stats.method, SolverMethod::Hierarchical);
   ASSERT_EQ(sol.probes.size(), points.size());
 
-  const ExactVisibility exact = scene_occluders(b.scene());
+  const std::unique_ptr<ExactVisibility> exact = scene_exact_visibility(b.scene());
   double worst = 0, sum_sq = 0;
   for (std::size_t k = 0; k < points.size(); ++k) {
     // The light sees every probe (it stands up and to the east of the box, the slab to the south
     // of the line): E = I (n·d) / |d|³.
     const Vector3 d = light - points[k];
-    const double expected = kIntensity * d.z / std::pow(length(d), 3) + exact_sum(sol, exact, points[k], {0, 0, 1});
+    const double expected = kIntensity * d.z / std::pow(length(d), 3) + exact_sum(sol, *exact, points[k], {0, 0, 1});
     const double e = sol.probes[k].irradiance[0] / expected - 1;
     worst = std::max(worst, std::abs(e));
     sum_sq += e * e;
@@ -115,12 +108,12 @@ TEST(HierarchicalPointGather, ProbesInADimRoomReadTheExactSumToTheirOwnAccuracy)
   ASSERT_EQ(sol.stats.method, SolverMethod::Hierarchical);
   ASSERT_EQ(sol.probes.size(), floor.size() + wall.size());
   // The lamp sees none of the probes, so the exact value is the sum alone.
-  const ExactVisibility exact = scene_occluders(b.scene());
+  const std::unique_ptr<ExactVisibility> exact = scene_exact_visibility(b.scene());
   std::vector<double> errors;
   for (std::size_t k = 0; k < sol.probes.size(); ++k) {
     const bool on_floor = k < floor.size();
     const Point3& p = on_floor ? floor[k] : wall[k - floor.size()];
-    errors.push_back(sol.probes[k].irradiance[0] / exact_sum(sol, exact, p, on_floor ? Vector3{0, 0, 1} : Vector3{1, 0, 0}) - 1);
+    errors.push_back(sol.probes[k].irradiance[0] / exact_sum(sol, *exact, p, on_floor ? Vector3{0, 0, 1} : Vector3{1, 0, 0}) - 1);
   }
   double worst = 0, sum_sq = 0;
   for (const double e : errors) worst = std::max(worst, std::abs(e)), sum_sq += e * e;

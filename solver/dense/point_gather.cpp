@@ -59,8 +59,7 @@ DensePointGather::DensePointGather(const Scene& scene, const std::vector<Patch>&
                                    const OccluderPlanes& planes, const std::vector<OccluderPlanes::Sides>& sides,
                                    std::vector<const double*> B)
     : patches_(patches), vis_(vis), planes_(planes), sides_(sides), B_(std::move(B)) {
-  const OutwardSolids solids = outward_solids(scene.surfaces);
-  exact_ = std::make_unique<ExactVisibility>(input_triangles(scene), solids.solid, solids.convex, solids.cap);
+  exact_ = scene_exact_visibility(scene);
   radiates_.assign(patches.size(), 0);
   for (std::size_t j = 0; j < patches.size(); ++j)
     for (const double* b : B_) radiates_[j] = radiates_[j] || b[j] != 0;
