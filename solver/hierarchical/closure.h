@@ -22,9 +22,7 @@
 // hierarchical method converges"), and a dim room's light, whose links are the coarsest, by 1e-3 of
 // itself (docs/BENCHMARKS.md, "The held balance stalls on an inconsistency"). Left free, the misses
 // follow the light, and a closed scene gathers up to 8e-4 more or less than its leaves send, which
-// the certificate counts as escaped (docs/BENCHMARKS.md, "A closed scene gathers what it sends");
-// 4.3e-3 less among 48 reflecting spheres, whose bright facets' columns fall 1.9 % short
-// (docs/BENCHMARKS.md, "Many reflecting objects").
+// the certificate counts as escaped (docs/BENCHMARKS.md, "A closed scene gathers what it sends").
 // The reflecting roots cannot all be held at 1 as well: the closed rows fix the columns'
 // area-weighted total, Σ_j A_j C_j = Σ_i A_i, and the roots' light-weighted targets ask for another
 // (docs/BENCHMARKS.md, "The held balance stalls on an inconsistency"). Emitting leaves, whose

@@ -102,7 +102,8 @@ struct SentFacets {
 // radiosity varies over the normals: a faceted sphere lit from above, B ∝ n_z, read 30° off its axis
 // 13 % low, and the lit sphere room's panel gathered its links from clusters whose normals straddle
 // its direction 15–35 % short, the spheres' bright tops read as if as dim as their sides. The bins
-// are exact for any radiosity where every normal is ± an axis.
+// are exact for any radiosity where every normal is ± an axis. The refiner links no cluster read
+// the third way (reads_any_radiosity); the probes' gather does, with `sent` from the solved radiosity.
 struct ClusterView {
   std::array<unsigned char, 3> bin{};
   std::array<double, 3> weight{};
@@ -112,6 +113,16 @@ struct ClusterView {
 };
 ClusterView cluster_view(const ClusterTree& tree, int c, const Vector3& w, double sin_delta,
                          const std::vector<SentFacets>* sent = nullptr);
+
+// Whether the bins that cluster_view reads of C along w give what C sends along w whatever its
+// radiosity: its normals are ± axes, or all face w. Otherwise the weights are fitted to one radiosity
+// (`sent`), and a link that keeps them errs where the radiosity takes another shape, with one sign:
+// among 48 reflecting spheres, links from whole spheres to the room read 1.7 % low once the
+// interreflections had lit their sides and bottoms, and the closed room lost 0.43 % of its power
+// (docs/BENCHMARKS.md, "Many reflecting objects").
+inline bool reads_any_radiosity(const Cluster& C, const Vector3& w) {
+  return C.axis_normals || (C.cone_sin < 1 && dot(C.cone_axis, w) > C.cone_sin);
+}
 
 // The weight of the view's bin a (taken along w) along a direction u near w: an axis bin's is u_a
 // (exact: linear in the direction); a bin's, |u_a| times the view's scale for w, and 0 where u_a is on

@@ -170,6 +170,14 @@ void Refiner::refine_to_cluster(int r, int c, LinkBatch& out) const {
     if ((view.projected <= 0 || cos_r <= 0) &&
         cluster_B_[c] * unseen_transfer(C, view, cos_r > 0, sin_delta, d_min) * area_weight(R.area) <= epsilon_)
       return;
+    if (view.projected > 0 && cos_r > 0 && !reads_any_radiosity(C, w)) {
+      // Its children are linked instead, down to clusters whose bins read any radiosity, or roots.
+      for (int ch : C.child) {
+        refine_to_cluster(r, ch, out);
+        resolve_if_full(out);
+      }
+      return;
+    }
     const double error_per_B = one_point_error(view, scale, d, d_min) * area_weight(R.area);
     if (view.projected > 0 && cos_r > 0 && cluster_B_[c] * error_per_B <= epsilon_) {
       Link link;
@@ -243,6 +251,10 @@ void Refiner::refine_pair(int rc, int s, bool from_cluster, LinkBatch& out) cons
   if (from_cluster) {
     if (!may_face(h_.clusters[s], w, sin_delta, R.box)) return;
     view = cluster_view(h_, s, w, sin_delta, &sending_.sent);
+    if (view.projected > 0 && !reads_any_radiosity(h_.clusters[s], w)) {  // as refine_to_cluster
+      for (int c : h_.clusters[s].child) refine_pair(rc, c, true, out);
+      return;
+    }
   } else {
     const Element& E = h_.elements[s];
     if (dot(E.normal, w) <= -sin_delta) return;
