@@ -11,7 +11,8 @@
 // find the pair hidden (every leaf below takes v, and a leaf may see all of the source or none:
 // docs/BENCHMARKS.md, "Where a faceted room's patch errors come from"); a link from a cluster
 // carries a one-point estimate of the cluster's intensity (clusters.h), erring by about the pair's
-// relative size; a link into a cluster needs the pair well separated (2.5 × the radii's sum).
+// relative size, and only from a cluster whose bins read any radiosity (reads_any_radiosity); a link
+// into a cluster needs the pair well separated (2.5 × the radii's sum).
 #pragma once
 
 #include <tbb/concurrent_unordered_map.h>
